@@ -1,0 +1,148 @@
+"""Benchmark meshes: a minimal OBJ reader and writer, 1-to-4 midpoint subdivision, and a cache of the arrays.
+
+Every solver must see the same triangles with the same vertex numbering, so the reader follows the rules of
+exactgeo's own OBJ reader: vertices in file order, 1-based or negative (relative) indices, only the position
+part of `v/vt/vn` references, polygons fan-triangulated from their first corner.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclasses.dataclass(frozen=True)
+class BenchMesh:
+    name: str
+    obj_path: Path  # what the C++ binaries read
+    vertices_path: Path  # float64 (V, 3), what the Python peers read
+    triangles_path: Path  # int32 (F, 3), zero-based
+    vertex_count: int
+    face_count: int
+
+
+def read_obj(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (V, 3) float64 and fan-triangulated faces (F, 3) int32 of an OBJ file."""
+    positions: list[list[float]] = []
+    triangles: list[tuple[int, int, int]] = []
+    with open(path, "rb") as file:
+        for line_number, line in enumerate(file, start=1):
+            fields = line.split()
+            if not fields:
+                continue
+            if fields[0] == b"v":
+                if len(fields) < 4:
+                    raise ValueError(f"{path}:{line_number}: vertex needs 3 coordinates")
+                positions.append([float(fields[1]), float(fields[2]), float(fields[3])])
+            elif fields[0] == b"f":
+                corners = [_vertex_index(token, len(positions), path, line_number) for token in fields[1:]]
+                if len(corners) < 3:
+                    raise ValueError(f"{path}:{line_number}: face needs at least 3 vertices")
+                for i in range(1, len(corners) - 1):
+                    triangles.append((corners[0], corners[i], corners[i + 1]))
+    vertex_array = np.array(positions, dtype=np.float64).reshape(-1, 3)
+    triangle_array = np.array(triangles, dtype=np.int64).reshape(-1, 3)
+    if triangle_array.size and triangle_array.max() >= len(vertex_array):
+        bad = int(triangle_array.max()) + 1
+        raise ValueError(f"{path}: face index {bad} out of range (file has {len(vertex_array)} vertices)")
+    return vertex_array, triangle_array.astype(np.int32)
+
+
+def _vertex_index(token: bytes, vertices_so_far: int, path: Path, line_number: int) -> int:
+    index = int(token.split(b"/", 1)[0])
+    if index > 0:
+        return index - 1
+    if index < 0 and vertices_so_far + index >= 0:
+        return vertices_so_far + index
+    raise ValueError(f"{path}:{line_number}: face index {index} out of range")
+
+
+def write_obj(path: Path, positions: np.ndarray, triangles: np.ndarray) -> None:
+    """%.17g round-trips every double, so the binaries parse exactly the coordinates the peers get."""
+    temporary = path.with_suffix(".tmp")
+    with open(temporary, "w") as file:
+        file.write(f"# {len(positions)} vertices, {len(triangles)} triangles\n")
+        np.savetxt(file, positions, fmt="v %.17g %.17g %.17g")
+        np.savetxt(file, triangles.astype(np.int64) + 1, fmt="f %d %d %d")
+    temporary.replace(path)
+
+
+def subdivide_midpoint(positions: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """1-to-4 subdivision: one new vertex per undirected edge at its midpoint, rounded once.
+
+    Original vertices keep their indices (so vertex 0 stays vertex 0); edge vertices follow, ordered by
+    edge. Face f becomes faces 4f..4f+3 (three corner triangles, then the middle one), winding kept.
+    """
+    vertex_count = len(positions)
+    tails = triangles.astype(np.int64)
+    heads = np.roll(tails, -1, axis=1)  # column k is the edge from corner k to corner k+1
+    edge_keys = np.minimum(tails, heads) * vertex_count + np.maximum(tails, heads)
+    unique_keys, edge_of_face_edge = np.unique(edge_keys.ravel(), return_inverse=True)
+    midpoints = 0.5 * (positions[unique_keys // vertex_count] + positions[unique_keys % vertex_count])
+    mid = edge_of_face_edge.reshape(-1, 3) + vertex_count  # mid[:, k] sits on the edge corner k -> k+1
+    corner = tails
+    children = np.stack(
+        [
+            np.stack([corner[:, 0], mid[:, 0], mid[:, 2]], axis=1),
+            np.stack([corner[:, 1], mid[:, 1], mid[:, 0]], axis=1),
+            np.stack([corner[:, 2], mid[:, 2], mid[:, 1]], axis=1),
+            mid,
+        ],
+        axis=1,
+    )
+    new_positions = np.concatenate([positions, midpoints])
+    if len(new_positions) > np.iinfo(np.int32).max:
+        raise ValueError(f"subdivision gives {len(new_positions)} vertices, more than int32 indices hold")
+    return new_positions, children.reshape(-1, 3).astype(np.int32)
+
+
+def _is_fresh(outputs: list[Path], inputs: list[Path]) -> bool:
+    if not all(path.exists() for path in outputs):
+        return False
+    newest_input = max(path.stat().st_mtime for path in inputs)
+    return min(path.stat().st_mtime for path in outputs) >= newest_input
+
+
+def prepare_meshes(mesh_dir: Path, work_dir: Path, subdivided: dict[str, tuple[str, int]]) -> list[BenchMesh]:
+    """Arrays for every OBJ in mesh_dir plus the subdivided meshes, cached under work_dir/meshes.
+
+    subdivided maps a new mesh name to (base mesh name, subdivision levels). Cached files are rebuilt
+    when older than their source mesh or than this file.
+    """
+    cache = work_dir / "meshes"
+    cache.mkdir(parents=True, exist_ok=True)
+    this_file = Path(__file__)
+    meshes: dict[str, BenchMesh] = {}
+    for obj_path in sorted(mesh_dir.glob("*.obj")):
+        meshes[obj_path.stem] = _cached_arrays(obj_path.stem, obj_path, cache, [obj_path, this_file], None)
+    for name, (base_name, levels) in subdivided.items():
+        if base_name not in meshes:
+            raise ValueError(f"{mesh_dir}: no {base_name}.obj to subdivide into {name}")
+        base = meshes[base_name]
+        inputs = [base.obj_path, this_file]
+
+        def subdivide(base=base, levels=levels):
+            positions, triangles = np.load(base.vertices_path), np.load(base.triangles_path)
+            for _ in range(levels):
+                positions, triangles = subdivide_midpoint(positions, triangles)
+            return positions, triangles
+
+        meshes[name] = _cached_arrays(name, cache / f"{name}.obj", cache, inputs, subdivide)
+    return sorted(meshes.values(), key=lambda mesh: (mesh.face_count, mesh.name))
+
+
+def _cached_arrays(name, obj_path, cache, inputs, generate) -> BenchMesh:
+    vertices_path = cache / f"{name}.vertices.npy"
+    triangles_path = cache / f"{name}.triangles.npy"
+    outputs = [vertices_path, triangles_path] + ([obj_path] if generate else [])
+    if not _is_fresh(outputs, inputs):
+        positions, triangles = generate() if generate else read_obj(obj_path)
+        if generate:
+            write_obj(obj_path, positions, triangles)
+        np.save(vertices_path, positions)
+        np.save(triangles_path, triangles)
+    positions = np.load(vertices_path, mmap_mode="r")
+    triangles = np.load(triangles_path, mmap_mode="r")
+    return BenchMesh(name, obj_path, vertices_path, triangles_path, len(positions), len(triangles))

@@ -1,0 +1,136 @@
+"""One benchmark run of a Python peer: load the mesh arrays, build the solver, propagate from one source.
+
+Run as its own process by run.py (one process per run, so its peak RSS is this run's alone). Imports and
+array loading happen before the clocks start; mesh setup and propagation are timed apart where the peer's
+API allows it. Distances go to an .npy file with +inf where the peer reports a vertex unreachable (or gives
+NaN); timings go to a JSON file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.metadata
+import json
+import time
+
+import numpy as np
+
+# Kirsanov's code marks unreachable vertices with GEODESIC_INF = 1e100; anything this large is unreachable.
+kKirsanovInfinity = 1e99
+
+
+def peer_pygeodesic(positions, triangles, source):
+    import pygeodesic.geodesic as geodesic
+
+    start = time.perf_counter()
+    algorithm = geodesic.PyGeodesicAlgorithmExact(positions, triangles)
+    built = time.perf_counter()
+    distances, _ = algorithm.geodesicDistances(np.array([source]), None)
+    done = time.perf_counter()
+    return built - start, done - built, distances
+
+
+def peer_gdist(positions, triangles, source):
+    import gdist
+
+    # compute_gdist builds the mesh and propagates in one call: the build is included in the propagation
+    # time (reported build time None).
+    start = time.perf_counter()
+    distances = gdist.compute_gdist(positions, triangles, source_indices=np.array([source], dtype=np.int32))
+    done = time.perf_counter()
+    return None, done - start, distances
+
+
+def peer_libigl(positions, triangles, source):
+    import igl
+
+    # exact_geodesic builds, propagates and then traces the path back from every target to measure its
+    # length, all in one call: the build and the tracing are included in the propagation time.
+    triangles = triangles.astype(np.int64)
+    targets = np.arange(len(positions), dtype=np.int64)
+    start = time.perf_counter()
+    distances = igl.exact_geodesic(positions, triangles, np.array([source], dtype=np.int64), VT=targets)
+    done = time.perf_counter()
+    return None, done - start, distances
+
+
+def peer_heat(positions, triangles, source):
+    import potpourri3d
+
+    # geometry-central rejects vertices used by no face: solve on the used ones (renumbered before the
+    # clocks start) and report the others unreachable, as the exact solvers do.
+    used = np.unique(triangles)
+    new_index = np.full(len(positions), -1, dtype=np.int64)
+    new_index[used] = np.arange(len(used))
+    used_positions, used_triangles = positions[used], new_index[triangles]
+
+    start = time.perf_counter()
+    solver = potpourri3d.MeshHeatMethodDistanceSolver(used_positions, used_triangles)
+    built = time.perf_counter()
+    used_distances = solver.compute_distance(int(new_index[source]))
+    done = time.perf_counter()
+    distances = np.full(len(positions), np.inf)
+    distances[used] = used_distances
+    return built - start, done - built, distances
+
+
+# solver name: (run function, module it imports, PyPI package)
+PEERS = {
+    "pygeodesic": (peer_pygeodesic, "pygeodesic.geodesic", "pygeodesic"),
+    "gdist": (peer_gdist, "gdist", "tvb-gdist"),
+    "libigl": (peer_libigl, "igl", "libigl"),
+    "heat": (peer_heat, "potpourri3d", "potpourri3d"),
+}
+
+
+def rss_bytes(field: str) -> int:
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith(field + ":"):
+                return int(line.split()[1]) * 1024
+    return 0
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--solver", required=True, choices=sorted(PEERS))
+    parser.add_argument("--vertices", required=True, help=".npy of float64 (V, 3) positions")
+    parser.add_argument("--triangles", required=True, help=".npy of (F, 3) zero-based vertex indices")
+    parser.add_argument("--source", required=True, type=int)
+    parser.add_argument("--out", help=".npy for the distances")
+    parser.add_argument("--stats", required=True, help="JSON for the timings")
+    args = parser.parse_args()
+
+    run, module, package = PEERS[args.solver]
+    importlib.import_module(module)
+    positions = np.ascontiguousarray(np.load(args.vertices), dtype=np.float64)
+    triangles = np.ascontiguousarray(np.load(args.triangles), dtype=np.int32)
+    rss_at_start = rss_bytes("VmRSS")  # interpreter, numpy, the peer's module and the mesh arrays
+
+    build_seconds, propagation_seconds, distances = run(positions, triangles, args.source)
+
+    distances = np.asarray(distances, dtype=np.float64).copy()
+    distances[~(np.abs(distances) < kKirsanovInfinity)] = np.inf  # also turns NaN into "unreachable"
+    if args.out:
+        np.save(args.out, distances)
+    stats = {
+        "solver": args.solver,
+        "package": package,
+        "package_version": importlib.metadata.version(package),
+        "vertices": len(positions),
+        "faces": len(triangles),
+        "source": args.source,
+        "build_seconds": build_seconds,
+        "propagation_seconds": propagation_seconds,
+        "rss_at_start_bytes": rss_at_start,
+        "peak_rss_self_bytes": rss_bytes("VmHWM"),
+        "unreachable": int(np.count_nonzero(~np.isfinite(distances))),
+        "max_distance": float(distances[np.isfinite(distances)].max(initial=0.0)),
+    }
+    with open(args.stats, "w") as file:
+        json.dump(stats, file, indent=1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,9 @@
+// Everything public in one include.
+#pragma once
+
+#include "exactgeo/error.hpp"
+#include "exactgeo/geodesic.hpp"
+#include "exactgeo/io.hpp"
+#include "exactgeo/mesh.hpp"
+#include "exactgeo/shapes.hpp"
+#include "exactgeo/version.hpp"

@@ -1,0 +1,20 @@
+// Reading meshes from files: OBJ, PLY (ASCII, binary little and big endian), OFF and STL (ASCII, binary).
+// The format is chosen by the file's extension (case-insensitive). Polygons are fan-triangulated.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "exactgeo/mesh.hpp"
+
+namespace exactgeo {
+
+// Throws exactgeo::Error: io_error if the file cannot be read, invalid_mesh naming the file, the line
+// (text formats) or element (binary formats) and the reason for malformed content.
+MeshSoup read_mesh_soup(const std::filesystem::path& path);
+
+// read_mesh_soup followed by validation into a Mesh.
+Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options = {});
+
+}  // namespace exactgeo

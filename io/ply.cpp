@@ -1,0 +1,389 @@
+// Stanford PLY 1.0 in ascii, binary_little_endian and binary_big_endian. Positions come from the x, y, z
+// properties of the `vertex` element (any numeric type); polygons from the `vertex_indices` (or
+// `vertex_index`) list of `face`, and triangle strips from the `vertex_indices` list of `tristrips`. Every
+// other property and element is read past and dropped.
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "readers.hpp"
+
+namespace exactgeo::detail {
+namespace {
+
+enum class PlyType : std::uint8_t { int8, uint8, int16, uint16, int32, uint32, float32, float64 };
+
+std::optional<PlyType> ply_type_named(std::string_view name) {
+  struct Named {
+    std::string_view name;
+    PlyType type;
+  };
+  // The original names and the sized aliases that many writers use instead.
+  static constexpr Named kNames[] = {
+      {"char", PlyType::int8},     {"int8", PlyType::int8},       {"uchar", PlyType::uint8},
+      {"uint8", PlyType::uint8},   {"short", PlyType::int16},     {"int16", PlyType::int16},
+      {"ushort", PlyType::uint16}, {"uint16", PlyType::uint16},   {"int", PlyType::int32},
+      {"int32", PlyType::int32},   {"uint", PlyType::uint32},     {"uint32", PlyType::uint32},
+      {"float", PlyType::float32}, {"float32", PlyType::float32}, {"double", PlyType::float64},
+      {"float64", PlyType::float64},
+  };
+  for (const Named& named : kNames) {
+    if (named.name == name) return named.type;
+  }
+  return std::nullopt;
+}
+
+std::size_t size_of(PlyType type) {
+  constexpr std::size_t kSizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+  return kSizes[static_cast<std::size_t>(type)];
+}
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::float32;        // the value type, or the item type of a list
+  std::optional<PlyType> list_count_type;  // set for list properties
+  int coordinate = -1;                     // 0, 1, 2 for the vertex's x, y, z; -1 otherwise
+  bool holds_corners = false;              // the vertex index list of a face or triangle strip
+};
+
+enum class PlyElementKind : std::uint8_t { vertex, face, tristrips, other };
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+  PlyElementKind kind = PlyElementKind::other;
+};
+
+enum class PlyFormat : std::uint8_t { ascii, binary_little_endian, binary_big_endian };
+
+struct PlyHeader {
+  PlyFormat format = PlyFormat::ascii;
+  std::vector<PlyElement> elements;
+  std::uint64_t vertex_count = 0;
+};
+
+PlyElementKind element_kind(std::string_view name) {
+  if (name == "vertex") return PlyElementKind::vertex;
+  if (name == "face") return PlyElementKind::face;
+  if (name == "tristrips") return PlyElementKind::tristrips;
+  return PlyElementKind::other;
+}
+
+PlyType read_type(TextCursor& cursor) {
+  const std::string_view token = cursor.next_token();
+  if (token.empty()) cursor.fail("missing property type");
+  const std::optional<PlyType> type = ply_type_named(token);
+  if (!type) cursor.fail("unknown property type " + quoted(token));
+  return *type;
+}
+
+PlyProperty read_property(TextCursor& cursor) {
+  PlyProperty property;
+  if (cursor.peek_token() == "list") {
+    cursor.next_token();
+    property.list_count_type = read_type(cursor);
+    if (*property.list_count_type >= PlyType::float32) cursor.fail("list count type must be an integer type");
+  }
+  property.type = read_type(cursor);
+  property.name = std::string(cursor.next_token());
+  if (property.name.empty()) cursor.fail("missing property name");
+  return property;
+}
+
+// Mark the properties the soup is made of, and check that the elements we read have them.
+void assign_roles(TextCursor& cursor, PlyElement& element) {
+  auto find = [&](std::string_view name) -> PlyProperty* {
+    for (PlyProperty& property : element.properties) {
+      if (property.name == name) return &property;
+    }
+    return nullptr;
+  };
+  if (element.kind == PlyElementKind::vertex) {
+    constexpr const char* kNames[] = {"x", "y", "z"};
+    for (int coordinate = 0; coordinate < 3; ++coordinate) {
+      const std::string name = kNames[coordinate];
+      PlyProperty* property = find(name);
+      if (!property) cursor.fail("vertex element has no '" + name + "' property");
+      if (property->list_count_type) cursor.fail("vertex property '" + name + "' is a list");
+      property->coordinate = coordinate;
+    }
+  } else if (element.kind != PlyElementKind::other) {
+    PlyProperty* property = find("vertex_indices");
+    if (!property && element.kind == PlyElementKind::face) property = find("vertex_index");
+    if (!property) cursor.fail(element.name + " element has no 'vertex_indices' property");
+    if (!property->list_count_type) cursor.fail(element.name + " property '" + property->name + "' is not a list");
+    property->holds_corners = true;
+  }
+}
+
+PlyHeader read_header(TextCursor& cursor) {
+  if (!cursor.next_line() || cursor.next_token() != "ply" || !cursor.next_token().empty()) {
+    cursor.fail("not a PLY file (the first line must be 'ply')");
+  }
+  PlyHeader header;
+  bool has_format = false;
+  for (;;) {
+    if (!cursor.next_line()) cursor.fail("the header has no 'end_header' line");
+    const std::string_view keyword = cursor.next_token();
+    if (keyword.empty() || keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "end_header") break;
+    if (keyword == "format") {
+      const std::string_view format = cursor.next_token();
+      if (format == "ascii") {
+        header.format = PlyFormat::ascii;
+      } else if (format == "binary_little_endian") {
+        header.format = PlyFormat::binary_little_endian;
+      } else if (format == "binary_big_endian") {
+        header.format = PlyFormat::binary_big_endian;
+      } else {
+        cursor.fail("unsupported PLY format " + quoted(format));
+      }
+      const std::string_view version = cursor.next_token();
+      if (version != "1.0") cursor.fail("unsupported PLY version " + quoted(version) + " (expected '1.0')");
+      has_format = true;
+    } else if (keyword == "element") {
+      PlyElement element;
+      element.name = std::string(cursor.next_token());
+      if (element.name.empty()) cursor.fail("missing element name");
+      const std::int64_t count = cursor.read_integer("element count");
+      if (count < 0) cursor.fail("negative element count");
+      element.count = static_cast<std::uint64_t>(count);
+      element.kind = element_kind(element.name);
+      if (element.kind == PlyElementKind::vertex && element.count > std::numeric_limits<std::uint32_t>::max()) {
+        cursor.fail("vertex count " + std::to_string(element.count) + " exceeds the 32-bit index range");
+      }
+      for (const PlyElement& earlier : header.elements) {
+        if (element.kind != PlyElementKind::other && earlier.kind == element.kind) {
+          cursor.fail("second '" + element.name + "' element");
+        }
+      }
+      header.elements.push_back(std::move(element));
+    } else if (keyword == "property") {
+      if (header.elements.empty()) cursor.fail("property before any element");
+      header.elements.back().properties.push_back(read_property(cursor));
+    } else {
+      cursor.fail("unexpected " + quoted(keyword) + " in the PLY header");
+    }
+  }
+  if (!has_format) cursor.fail("the header has no 'format' line");
+
+  bool has_vertices = false;
+  for (PlyElement& element : header.elements) {
+    assign_roles(cursor, element);
+    if (element.kind == PlyElementKind::vertex) {
+      header.vertex_count = element.count;
+      has_vertices = true;
+    }
+  }
+  if (!has_vertices) cursor.fail("no 'vertex' element in the header");
+  return header;
+}
+
+// "face 12": the element item an error is about.
+std::string item_name(const PlyElement& element, std::uint64_t index) {
+  return element.name + " " + std::to_string(index);
+}
+
+std::string truncation_reason(const PlyElement& element, std::uint64_t index) {
+  return "file ends inside " + item_name(element, index) + " (the header declares " +
+         std::to_string(element.count) + ")";
+}
+
+// Reads values as whitespace-separated tokens; errors name the line.
+class AsciiBody {
+ public:
+  explicit AsciiBody(TextCursor& cursor) : cursor_(cursor) {}
+
+  void begin_item(const PlyElement& element, std::uint64_t index) {
+    element_ = &element;
+    index_ = index;
+  }
+  double read(PlyType) {
+    const std::string_view token = cursor_.next_token_any_line();
+    if (token.empty()) cursor_.fail(truncation_reason(*element_, index_));
+    double value = 0;
+    if (!parse_double(token, value)) fail("malformed number " + quoted(token));
+    return value;
+  }
+  [[noreturn]] void fail(const std::string& reason) const {
+    cursor_.fail(item_name(*element_, index_) + ": " + reason);
+  }
+  static std::size_t min_bytes(PlyType) { return 2; }  // a digit and a separator
+
+ private:
+  TextCursor& cursor_;
+  const PlyElement* element_ = nullptr;
+  std::uint64_t index_ = 0;
+};
+
+// Reads fixed-size values in the file's byte order; errors name the element item.
+class BinaryBody {
+ public:
+  BinaryBody(const MeshFile& file, std::size_t offset, bool big_endian)
+      : file_(file), offset_(offset), swap_(big_endian != (std::endian::native == std::endian::big)) {}
+
+  void begin_item(const PlyElement& element, std::uint64_t index) {
+    element_ = &element;
+    index_ = index;
+  }
+  double read(PlyType type) {
+    const std::size_t size = size_of(type);
+    if (file_.bytes.size() - offset_ < size) throw_file_error(file_, truncation_reason(*element_, index_));
+    const char* at = file_.bytes.data() + offset_;
+    offset_ += size;
+    switch (type) {
+      case PlyType::int8: return load<std::int8_t>(at);
+      case PlyType::uint8: return load<std::uint8_t>(at);
+      case PlyType::int16: return load<std::int16_t>(at);
+      case PlyType::uint16: return load<std::uint16_t>(at);
+      case PlyType::int32: return load<std::int32_t>(at);
+      case PlyType::uint32: return load<std::uint32_t>(at);
+      case PlyType::float32: return load<float>(at);
+      case PlyType::float64: return load<double>(at);
+    }
+    return 0;
+  }
+  [[noreturn]] void fail(const std::string& reason) const {
+    throw_file_error(file_, item_name(*element_, index_) + ": " + reason);
+  }
+  static std::size_t min_bytes(PlyType type) { return size_of(type); }
+
+ private:
+  template <class T>
+  double load(const char* at) const {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, at, sizeof(T));
+    if (swap_) {
+      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+    }
+    T value;
+    std::memcpy(&value, raw, sizeof(T));
+    return static_cast<double>(value);
+  }
+
+  const MeshFile& file_;
+  std::size_t offset_;
+  bool swap_;
+  const PlyElement* element_ = nullptr;
+  std::uint64_t index_ = 0;
+};
+
+// A list length or vertex index stored in a possibly floating-point property: it must be a whole number.
+template <class Body>
+std::int64_t whole_number(const Body& body, double value, std::string_view what) {
+  constexpr double kLimit = 9.0e15;  // well inside the range where doubles hold every integer
+  if (!(std::floor(value) == value && std::abs(value) < kLimit)) {
+    body.fail(std::string(what) + " " + std::to_string(value) + " is not a whole number");
+  }
+  return static_cast<std::int64_t>(value);
+}
+
+template <class Body>
+std::uint32_t vertex_index(const Body& body, double value, std::uint64_t vertex_count) {
+  const std::int64_t index = whole_number(body, value, "vertex index");
+  if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count) {
+    body.fail("vertex index " + std::to_string(index) + " out of range (file has " + std::to_string(vertex_count) +
+              " vertices)");
+  }
+  return static_cast<std::uint32_t>(index);
+}
+
+// Strips list their vertices so that each new one makes a triangle with the two before it; the winding
+// alternates, and -1 ends a strip.
+template <class Body>
+void append_strips(const Body& body, std::span<const double> values, std::uint64_t vertex_count,
+                   std::vector<std::uint32_t>& triangles) {
+  std::uint32_t previous[2] = {0, 0};
+  std::size_t strip_length = 0;
+  for (double value : values) {
+    if (value == -1.0) {
+      strip_length = 0;
+      continue;
+    }
+    const std::uint32_t index = vertex_index(body, value, vertex_count);
+    if (strip_length >= 2) {
+      const bool odd = strip_length % 2 == 1;
+      triangles.insert(triangles.end(), {previous[odd ? 1 : 0], previous[odd ? 0 : 1], index});
+    }
+    previous[0] = previous[1];
+    previous[1] = index;
+    ++strip_length;
+  }
+}
+
+template <class Body>
+void read_body(Body& body, std::size_t bytes_left, const PlyHeader& header, MeshSoup& soup) {
+  std::vector<double> list_values;
+  std::vector<std::uint32_t> polygon;
+  for (const PlyElement& element : header.elements) {
+    // Items without properties take no room, so a huge count of them must not be looped over.
+    if (element.properties.empty()) continue;
+    std::size_t min_item_bytes = 0;
+    for (const PlyProperty& property : element.properties) {
+      min_item_bytes += Body::min_bytes(property.list_count_type.value_or(property.type));
+    }
+    const std::size_t plausible = plausible_count(element.count, bytes_left, min_item_bytes);
+    if (element.kind == PlyElementKind::vertex) soup.positions.reserve(3 * plausible);
+    if (element.kind == PlyElementKind::face) soup.triangles.reserve(soup.triangles.size() + 3 * plausible);
+
+    for (std::uint64_t item = 0; item < element.count; ++item) {
+      body.begin_item(element, item);
+      double xyz[3] = {0, 0, 0};
+      list_values.clear();
+      for (const PlyProperty& property : element.properties) {
+        if (!property.list_count_type) {
+          const double value = body.read(property.type);
+          if (property.coordinate >= 0) xyz[property.coordinate] = value;
+          continue;
+        }
+        const std::int64_t length = whole_number(body, body.read(*property.list_count_type), "list length");
+        if (length < 0) body.fail("negative list length");
+        for (std::int64_t i = 0; i < length; ++i) {
+          const double value = body.read(property.type);
+          if (property.holds_corners) list_values.push_back(value);
+        }
+      }
+
+      if (element.kind == PlyElementKind::vertex) {
+        if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2])) {
+          body.fail("non-finite coordinate");
+        }
+        soup.positions.insert(soup.positions.end(), std::begin(xyz), std::end(xyz));
+      } else if (element.kind == PlyElementKind::face) {
+        if (list_values.size() < 3) {
+          body.fail("face with " + std::to_string(list_values.size()) + " vertices (a face needs at least 3)");
+        }
+        polygon.clear();
+        for (double value : list_values) polygon.push_back(vertex_index(body, value, header.vertex_count));
+        append_fan(polygon, soup.triangles);
+      } else if (element.kind == PlyElementKind::tristrips) {
+        append_strips(body, list_values, header.vertex_count, soup.triangles);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+MeshSoup read_ply(const MeshFile& file) {
+  TextCursor cursor(file);
+  const PlyHeader header = read_header(cursor);
+  const std::size_t body_offset = cursor.offset_after_line();
+  const std::size_t bytes_left = file.bytes.size() - body_offset;
+  MeshSoup soup;
+  if (header.format == PlyFormat::ascii) {
+    AsciiBody body(cursor);
+    read_body(body, bytes_left, header, soup);
+  } else {
+    BinaryBody body(file, body_offset, header.format == PlyFormat::binary_big_endian);
+    read_body(body, bytes_left, header, soup);
+  }
+  return soup;
+}
+
+}  // namespace exactgeo::detail

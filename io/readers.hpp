@@ -1,0 +1,86 @@
+// Shared pieces of the mesh file readers: the file in memory, error messages that name the file and line,
+// locale-independent number parsing, a line/token cursor for the text formats, and fan triangulation.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "exactgeo/mesh.hpp"
+
+namespace exactgeo::detail {
+
+// A whole mesh file loaded into memory, and the name that prefixes every message about it.
+struct MeshFile {
+  std::string name;        // the path as the caller gave it
+  std::string_view bytes;  // the file's content
+};
+
+// Throw Error(invalid_mesh) with the message "<name>: <reason>" (binary formats, whole-file problems).
+[[noreturn]] void throw_file_error(const MeshFile& file, std::string_view reason);
+// Throw Error(invalid_mesh) with the message "<name>:<line>: <reason>" (text formats; lines count from 1).
+[[noreturn]] void throw_line_error(const MeshFile& file, std::size_t line, std::string_view reason);
+
+// A token as it appears in messages: quoted, and cut short if it is long or not printable.
+std::string quoted(std::string_view token);
+
+// Whole-token parsing, independent of the C locale. An optional leading '+' is accepted. Both return false
+// unless the entire token is a number; parse_double accepts "nan" and "inf", so callers check finiteness.
+bool parse_double(std::string_view token, double& value);
+bool parse_integer(std::string_view token, std::int64_t& value);
+
+// How many items to reserve for `count` items declared in a header when each takes at least
+// `min_bytes_per_item` of the `bytes_left` in the file: a lying header must not allocate gigabytes.
+std::size_t plausible_count(std::uint64_t count, std::size_t bytes_left, std::size_t min_bytes_per_item);
+
+// Append the triangles (c0 c1 c2), (c0 c2 c3), ... of a polygon whose indices are already checked.
+void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles);
+
+// Walks a text file line by line and, within a line, token by token (tokens are separated by spaces,
+// tabs and a CR before the line feed). A token starting with the comment character ends its line.
+class TextCursor {
+ public:
+  explicit TextCursor(const MeshFile& file, char comment = '\0') : file_(file), comment_(comment) {}
+
+  // Move to the next line; false at the end of the file.
+  bool next_line();
+  // Move to the next line that has a token, skipping blank and comment lines; false at the end of the file.
+  bool next_data_line();
+  // The next token on the current line, or an empty view when the line has no more.
+  std::string_view next_token();
+  // The token next_token would return, without consuming it.
+  std::string_view peek_token() const;
+  // Drop what is left of the current line.
+  void skip_rest_of_line() { line_ = {}; }
+  // The next token, moving to later lines as needed; an empty view at the end of the file.
+  std::string_view next_token_any_line();
+
+  // The next token on the current line as a number; throws naming `what` if it is missing or malformed.
+  double read_double(std::string_view what);
+  std::int64_t read_integer(std::string_view what);
+
+  // Byte offset just past the current line: where a binary body starts after a text header.
+  std::size_t offset_after_line() const { return next_line_start_; }
+
+  // Throw Error(invalid_mesh) naming the file and the current line.
+  [[noreturn]] void fail(std::string_view reason) const;
+
+ private:
+  const MeshFile& file_;
+  char comment_;
+  std::string_view line_;  // unread rest of the current line
+  std::size_t next_line_start_ = 0;
+  std::size_t line_number_ = 0;
+};
+
+// One function per format; each returns the soup with every index checked against its vertex count and
+// every coordinate finite. Emptiness is checked by the caller.
+MeshSoup read_obj(const MeshFile& file);
+MeshSoup read_ply(const MeshFile& file);
+MeshSoup read_off(const MeshFile& file);
+MeshSoup read_stl(const MeshFile& file);
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,144 @@
+// STL, ASCII and binary. STL stores each triangle with its own three positions, so vertices are shared by
+// merging bitwise-identical positions, numbered in order of first appearance. A binary file may also start
+// with "solid", so the size decides: a binary file is exactly 84 + 50 * triangle count bytes.
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include "readers.hpp"
+
+namespace exactgeo::detail {
+namespace {
+
+constexpr std::size_t kBinaryHeaderBytes = 84;  // 80-byte comment, then a uint32 triangle count
+constexpr std::size_t kBinaryTriangleBytes = 50;  // normal, three corners (12 floats), uint16 attribute
+
+// Numbers positions in order of first appearance, giving identical ones the same index.
+class VertexMerger {
+ public:
+  explicit VertexMerger(MeshSoup& soup, std::size_t expected_corners) : soup_(soup) {
+    indices_.reserve(expected_corners);
+  }
+
+  std::uint32_t index_of(double x, double y, double z) {
+    const Key key = {std::bit_cast<std::uint64_t>(x), std::bit_cast<std::uint64_t>(y),
+                     std::bit_cast<std::uint64_t>(z)};
+    const auto [it, inserted] = indices_.try_emplace(key, static_cast<std::uint32_t>(indices_.size()));
+    if (inserted) soup_.positions.insert(soup_.positions.end(), {x, y, z});
+    return it->second;
+  }
+
+ private:
+  using Key = std::array<std::uint64_t, 3>;
+  struct KeyHash {
+    std::size_t operator()(const Key& key) const noexcept {
+      std::uint64_t h = key[0] * 0x9E3779B97F4A7C15ull;
+      h = (h ^ (h >> 29) ^ key[1]) * 0xBF58476D1CE4E5B9ull;
+      h = (h ^ (h >> 31) ^ key[2]) * 0x94D049BB133111EBull;
+      return static_cast<std::size_t>(h ^ (h >> 32));
+    }
+  };
+
+  MeshSoup& soup_;
+  std::unordered_map<Key, std::uint32_t, KeyHash> indices_;
+};
+
+std::uint32_t load_uint32_le(const char* at) {
+  unsigned char b[4];
+  std::memcpy(b, at, 4);
+  return std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 | std::uint32_t{b[3]} << 24;
+}
+
+float load_float_le(const char* at) { return std::bit_cast<float>(load_uint32_le(at)); }
+
+MeshSoup read_binary_stl(const MeshFile& file, std::uint32_t triangle_count) {
+  MeshSoup soup;
+  soup.triangles.reserve(3 * std::size_t{triangle_count});
+  VertexMerger merger(soup, triangle_count / 2);  // closed meshes have about half as many vertices as faces
+  const char* record = file.bytes.data() + kBinaryHeaderBytes;
+  for (std::uint32_t t = 0; t < triangle_count; ++t, record += kBinaryTriangleBytes) {
+    for (int corner = 0; corner < 3; ++corner) {
+      const char* at = record + 12 + 12 * corner;  // skip the normal
+      const double x = load_float_le(at), y = load_float_le(at + 4), z = load_float_le(at + 8);
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+        throw_file_error(file, "triangle " + std::to_string(t) + ": non-finite coordinate");
+      }
+      soup.triangles.push_back(merger.index_of(x, y, z));
+    }
+  }
+  return soup;
+}
+
+// solid name / facet normal nx ny nz / outer loop / vertex x y z (three times) / endloop / endfacet / ... /
+// endsolid name. Read token by token, so the line layout does not matter; several solids are concatenated.
+MeshSoup read_ascii_stl(const MeshFile& file) {
+  MeshSoup soup;
+  VertexMerger merger(soup, file.bytes.size() / 256);  // a facet takes about 250 bytes of text
+  TextCursor cursor(file);
+  std::vector<std::uint32_t> polygon;
+  bool in_facet = false;
+  for (std::string_view token = cursor.next_token_any_line(); !token.empty();
+       token = cursor.next_token_any_line()) {
+    if (token == "solid" || token == "endsolid") {
+      if (in_facet) cursor.fail("'" + std::string(token) + "' inside a facet");
+      cursor.skip_rest_of_line();  // the solid's name
+    } else if (token == "facet") {
+      if (in_facet) cursor.fail("'facet' before the previous facet's 'endfacet'");
+      if (cursor.next_token() != "normal") cursor.fail("expected 'normal' after 'facet'");
+      for (int i = 0; i < 3; ++i) cursor.read_double("normal component");
+      in_facet = true;
+      polygon.clear();
+    } else if (token == "vertex") {
+      if (!in_facet) cursor.fail("'vertex' outside a facet");
+      const double x = cursor.read_double("vertex x");
+      const double y = cursor.read_double("vertex y");
+      const double z = cursor.read_double("vertex z");
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) cursor.fail("non-finite vertex coordinate");
+      polygon.push_back(merger.index_of(x, y, z));
+    } else if (token == "endfacet") {
+      if (!in_facet) cursor.fail("'endfacet' without 'facet'");
+      if (polygon.size() < 3) {
+        cursor.fail("facet with " + std::to_string(polygon.size()) + " vertices (a face needs at least 3)");
+      }
+      append_fan(polygon, soup.triangles);
+      in_facet = false;
+    } else if (token == "outer") {
+      if (cursor.next_token() != "loop") cursor.fail("expected 'loop' after 'outer'");
+    } else if (token != "endloop") {
+      cursor.fail("unexpected " + quoted(token));
+    }
+  }
+  if (in_facet) cursor.fail("file ends inside a facet");
+  return soup;
+}
+
+bool starts_with_solid(std::string_view bytes) {
+  const std::size_t first = bytes.find_first_not_of(" \t\r\n");
+  return first != std::string_view::npos && bytes.substr(first).starts_with("solid");
+}
+
+}  // namespace
+
+MeshSoup read_stl(const MeshFile& file) {
+  const std::string_view bytes = file.bytes;
+  const std::uint32_t triangle_count = bytes.size() >= kBinaryHeaderBytes ? load_uint32_le(bytes.data() + 80) : 0;
+  const std::uint64_t binary_size = kBinaryHeaderBytes + std::uint64_t{kBinaryTriangleBytes} * triangle_count;
+  if (bytes.size() >= kBinaryHeaderBytes && bytes.size() == binary_size) return read_binary_stl(file, triangle_count);
+  if (starts_with_solid(bytes)) return read_ascii_stl(file);
+  if (bytes.size() < kBinaryHeaderBytes) {
+    throw_file_error(file, "too short for a binary STL (" + std::to_string(bytes.size()) + " bytes, need 84)");
+  }
+  const std::string declared = "the header declares " + std::to_string(triangle_count) + " triangles";
+  if (bytes.size() < binary_size) {
+    const std::size_t complete = (bytes.size() - kBinaryHeaderBytes) / kBinaryTriangleBytes;
+    throw_file_error(file, "file ends inside triangle " + std::to_string(complete) + " (" + declared + ")");
+  }
+  throw_file_error(file, std::to_string(bytes.size() - binary_size) + " bytes after the last triangle (" +
+                             declared + ")");
+}
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,262 @@
+// The VTP driver (paper Section 5.2, Algorithm 1): a priority queue of wavefront vertices; popping one
+// adds its unvisited faces to the traversed area and propagates the window lists entering them, and
+// whatever those lists reach inside the traversed area, until every list is pruned, has died on the
+// boundary or waits on an edge of the wavefront.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <string>
+
+#include "exactgeo/error.hpp"
+#include "exactgeo/geodesic.hpp"
+#include "propagation.hpp"
+#include "surface_mesh.hpp"
+#include "tolerances.hpp"
+#include "vertex_queue.hpp"
+#include "windows.hpp"
+
+namespace exactgeo {
+namespace detail {
+namespace {
+
+enum class VertexState : std::uint8_t { unseen, queued, inside };
+
+class VtpEngine {
+ public:
+  VtpEngine(const SurfaceMesh& mesh, const GeodesicOptions& options)
+      : mesh_(mesh),
+        options_(options),
+        tolerances_{kPruneTolerance * mesh.length_scale, kMinWindowWidth * mesh.length_scale} {}
+
+  // Sources are surface vertices; source_of_vertex[v] names the source index a source vertex belongs to.
+  void run(std::span<const std::uint32_t> source_vertices, std::span<const std::uint32_t> source_index) {
+    const std::uint32_t n = mesh_.vertex_count;
+    distance_.assign(n, HUGE_VAL);
+    emitted_at_.assign(n, HUGE_VAL);
+    parent_.assign(n, kNone);
+    state_.assign(n, VertexState::unseen);
+    emit_scheduled_.assign(n, 0);
+    source_label_.assign(n, kNone);
+    face_visited_at_.assign(mesh_.face_count(), kNone);
+    scheduled_.assign(mesh_.halfedges.size(), 0);
+    lists_.reset(mesh_.halfedges.size());
+    queue_.reset(n);
+    iteration_ = 0;
+
+    for (std::size_t i = 0; i < source_vertices.size(); ++i) {
+      const std::uint32_t s = source_vertices[i];
+      source_label_[s] = source_index[i];
+      relax(s, 0.0, s);
+    }
+    while (!queue_.empty()) {
+      const std::uint32_t v = queue_.pop();
+      state_[v] = VertexState::inside;
+      ++iteration_;
+      ++stats_.vertex_pops;
+      if (bends_paths(v)) emit(v);
+      for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+        const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
+        if (face_visited_at_[f] != kNone) continue;
+        face_visited_at_[f] = iteration_;
+        for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+          if (!lists_.empty(h)) schedule(h);
+      }
+      drain();
+    }
+    stats_.peak_windows = lists_.peak_live();
+    stats_.peak_window_bytes = lists_.peak_live() * sizeof(Window);
+  }
+
+  const std::vector<double>& distances() const { return distance_; }
+  GeodesicStats& stats() { return stats_; }
+
+  // The source each surface vertex's path starts from, following the chain of pseudo-sources.
+  std::uint32_t nearest_source(std::uint32_t v) const {
+    for (std::uint32_t steps = 0; v != kNone && steps <= mesh_.vertex_count; ++steps) {
+      if (source_label_[v] != kNone) return source_label_[v];
+      v = parent_[v];
+    }
+    return kNone;
+  }
+
+ private:
+  bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
+
+  // A path of length d reaches v, its last straight piece starting at pseudo-source `from`.
+  void relax(std::uint32_t v, double d, std::uint32_t from) {
+    if (!(d < distance_[v])) return;
+    distance_[v] = d;
+    parent_[v] = from;
+    if (state_[v] != VertexState::inside) {
+      state_[v] = VertexState::queued;
+      queue_.push_or_decrease(v, d);
+    } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
+      // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
+      emit_scheduled_[v] = 1;
+      emit_queue_.push_back(v);
+    }
+  }
+
+  void schedule(std::uint32_t h) {
+    if (scheduled_[h]) return;
+    scheduled_[h] = 1;
+    pending_.push_back(h);
+  }
+
+  // Paper Section 5.2, "Saddle Vertices": a pseudo-source sends one window across each edge opposite to
+  // it in its one-ring and offers its distance to its neighbours.
+  void emit(std::uint32_t v) {
+    emitted_at_[v] = distance_[v];
+    ++stats_.pseudo_source_emissions;
+    for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+      const std::uint32_t c = mesh_.vertex_corners[i];  // halfedge leaving v
+      const std::uint32_t opposite = next_halfedge(c);
+      relax(mesh_.head(c), distance_[v] + mesh_.halfedges[c].length, v);
+      relax(mesh_.apex(c), distance_[v] + mesh_.halfedges[prev_halfedge(c)].length, v);
+      const std::uint32_t g = mesh_.twin[opposite];
+      if (g == kNone) continue;
+      const HalfedgeGeometry& o = mesh_.halfedges[opposite];
+      Window w{0.0, o.length, o.apex_x, -o.apex_y, distance_[v], v, kNone};
+      w = to_twin_frame(w, o.length, mesh_.tail(g) != mesh_.tail(opposite));
+      if (face_visited_at_[face_of(g)] != kNone) {
+        lists_.append(g, w);
+        schedule(g);
+      } else {
+        lists_.prepend(g, w);
+      }
+    }
+  }
+
+  void drain() {
+    while (!pending_.empty() || !emit_queue_.empty()) {
+      if (!emit_queue_.empty()) {
+        const std::uint32_t v = emit_queue_.back();
+        emit_queue_.pop_back();
+        emit_scheduled_[v] = 0;
+        if (distance_[v] < emitted_at_[v] - tolerances_.prune) emit(v);
+        continue;
+      }
+      const std::uint32_t h = pending_.front();
+      pending_.pop_front();
+      scheduled_[h] = 0;
+      cross(h);
+    }
+  }
+
+  // Propagates the list entering face(h) through h across that face (paper Section 4).
+  void cross(std::uint32_t h) {
+    incoming_.clear();
+    lists_.take(h, incoming_);
+    if (incoming_.empty()) return;
+    const HalfedgeGeometry& g = mesh_.halfedges[h];
+    const FaceFrame frame{g.length, g.apex_x, g.apex_y, mesh_.halfedges[prev_halfedge(h)].length,
+                          mesh_.halfedges[next_halfedge(h)].length};
+    const std::uint32_t a = mesh_.tail(h), b = mesh_.head(h), c = mesh_.apex(h);
+    const ApexReach reach = reach_apex(incoming_, frame);
+    relax(c, reach.distance, incoming_[reach.window].pseudo_source);
+
+    to_ac_.clear();
+    to_bc_.clear();
+    stats_.window_propagations += cross_face(incoming_, frame, reach, options_.rule1,
+                                             {distance_[a], distance_[b], distance_[c]}, tolerances_, to_ac_, to_bc_);
+    if (options_.rule23) {
+      prune_neighbours(to_ac_, tolerances_);
+      prune_neighbours(to_bc_, tolerances_);
+    }
+    const bool prime = face_visited_at_[face_of(h)] == iteration_;
+    deliver(prev_halfedge(h), to_ac_, a, prime);
+    deliver(next_halfedge(h), to_bc_, b, prime);
+  }
+
+  // Hands windows that crossed to `side` (a halfedge of the face just crossed; their frame has `origin` at
+  // x = 0) to the list on the other side of that edge.
+  void deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime) {
+    if (windows.empty()) return;
+    const std::uint32_t g = mesh_.twin[side];
+    if (g == kNone) return;  // a boundary edge: the windows leave the surface
+    const bool reversed = mesh_.tail(g) != origin;
+    const double length = mesh_.halfedges[side].length;
+    for (Window& w : windows) w = to_twin_frame(w, length, reversed);
+    if (reversed) std::reverse(windows.begin(), windows.end());  // keep the list ordered along g
+
+    if (face_visited_at_[face_of(g)] != kNone) {  // inside the traversed area: keep moving
+      for (const Window& w : windows) lists_.append(g, w);
+      schedule(g);
+    } else if (prime && options_.rule23) {  // Rule 3: PrimeMerge on a new wavefront edge
+      merged_.clear();
+      lists_.take(g, merged_);
+      merge_pruned(merged_, windows, tolerances_);
+      for (const Window& w : merged_) lists_.append(g, w);
+    } else if (!reversed) {  // order-free SecondMerge: windows from the side of g's tail go first
+      for (auto it = windows.rbegin(); it != windows.rend(); ++it) lists_.prepend(g, *it);
+    } else {
+      for (const Window& w : windows) lists_.append(g, w);
+    }
+  }
+
+  const SurfaceMesh& mesh_;
+  GeodesicOptions options_;
+  Tolerances tolerances_;
+  GeodesicStats stats_;
+
+  std::vector<double> distance_, emitted_at_;
+  std::vector<std::uint32_t> parent_, source_label_, face_visited_at_;
+  std::vector<VertexState> state_;
+  std::vector<std::uint8_t> scheduled_, emit_scheduled_;
+  std::uint32_t iteration_ = 0;
+  WindowLists lists_;
+  VertexQueue queue_;
+  std::deque<std::uint32_t> pending_;
+  std::vector<std::uint32_t> emit_queue_;
+  std::vector<Window> incoming_, to_ac_, to_bc_, merged_;
+};
+
+}  // namespace
+}  // namespace detail
+
+GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                                 const GeodesicOptions& options) {
+  const detail::SurfaceMesh& surface = mesh.surface();
+  if (source_vertices.empty()) throw Error(ErrorCode::invalid_argument, "no source vertex given");
+  std::vector<std::uint32_t> surface_sources, source_index;
+  for (std::size_t i = 0; i < source_vertices.size(); ++i) {
+    const std::uint32_t v = source_vertices[i];
+    if (v >= mesh.vertex_count())
+      throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(v) + " is out of range (mesh has " +
+                                                   std::to_string(mesh.vertex_count()) + " vertices)");
+    const auto copies = surface.copies_of(v);
+    if (copies.empty())
+      throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(v) + " is used by no face");
+    for (std::uint32_t s : copies) {
+      surface_sources.push_back(s);
+      source_index.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  detail::VtpEngine engine(surface, options);
+  engine.run(surface_sources, source_index);
+  GeodesicResult result;
+  result.stats = engine.stats();
+  result.distances.assign(mesh.vertex_count(), HUGE_VAL);
+  result.nearest_source.assign(mesh.vertex_count(), kNoSource);
+  const std::vector<double>& d = engine.distances();
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    for (std::uint32_t s : surface.copies_of(v)) {
+      if (d[s] < result.distances[v]) {
+        result.distances[v] = d[s];
+        result.nearest_source[v] = engine.nearest_source(s);
+      }
+    }
+  }
+  result.stats.propagation_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+GeodesicResult geodesic_distance(const Mesh& mesh, std::uint32_t source_vertex, const GeodesicOptions& options) {
+  return geodesic_distance(mesh, std::span<const std::uint32_t>(&source_vertex, 1), options);
+}
+
+}  // namespace exactgeo

@@ -1,0 +1,333 @@
+// Validation of the input arrays and construction of the manifold surface (see include/exactgeo/mesh.hpp
+// for the policy and src/surface_mesh.hpp for the layout).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include "exactgeo/error.hpp"
+#include "exactgeo/mesh.hpp"
+#include "surface_mesh.hpp"
+#include "tolerances.hpp"
+
+namespace exactgeo {
+namespace detail {
+namespace {
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 position(const std::vector<double>& positions, std::uint32_t v) {
+  return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
+}
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Hash of an exact position; -0.0 and +0.0 are the same position.
+struct PositionKey {
+  Vec3 p;
+  bool operator==(const PositionKey& o) const { return p[0] == o.p[0] && p[1] == o.p[1] && p[2] == o.p[2]; }
+};
+struct PositionHash {
+  std::size_t operator()(const PositionKey& k) const {
+    std::size_t h = 0;
+    for (double c : k.p) {
+      double normalized = c + 0.0;  // maps -0.0 to +0.0
+      std::uint64_t bits;
+      static_assert(sizeof bits == sizeof normalized);
+      __builtin_memcpy(&bits, &normalized, sizeof bits);
+      h ^= std::hash<std::uint64_t>{}(bits) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    }
+    return h;
+  }
+};
+
+void validate_arrays(std::span<const double> positions, std::span<const std::uint32_t> triangles) {
+  if (positions.size() % 3 != 0)
+    throw Error(ErrorCode::invalid_mesh, "positions array has " + std::to_string(positions.size()) +
+                                             " values, not a multiple of 3");
+  if (triangles.size() % 3 != 0)
+    throw Error(ErrorCode::invalid_mesh, "triangles array has " + std::to_string(triangles.size()) +
+                                             " indices, not a multiple of 3");
+  const std::size_t vertex_count = positions.size() / 3;
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i]))
+      throw Error(ErrorCode::invalid_mesh, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    if (triangles[i] >= vertex_count)
+      throw Error(ErrorCode::invalid_mesh, "face " + std::to_string(i / 3) + " names vertex " +
+                                               std::to_string(triangles[i]) + ", but the mesh has " +
+                                               std::to_string(vertex_count) + " vertices");
+  if (triangles.empty()) throw Error(ErrorCode::invalid_mesh, "mesh has no faces");
+}
+
+// Representative of each vertex: itself, or the first vertex at the same position. Counts duplicates.
+std::vector<std::uint32_t> find_duplicate_positions(const std::vector<double>& positions, std::size_t& duplicates) {
+  const auto n = static_cast<std::uint32_t>(positions.size() / 3);
+  std::vector<std::uint32_t> representative(n);
+  std::unordered_map<PositionKey, std::uint32_t, PositionHash> first;
+  first.reserve(n);
+  duplicates = 0;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    auto [it, inserted] = first.try_emplace(PositionKey{position(positions, v)}, v);
+    representative[v] = it->second;
+    duplicates += !inserted;
+  }
+  return representative;
+}
+
+// Pair up halfedges along undirected edges: two halfedges become twins; edges with one halfedge are
+// boundary, edges with three or more are cut (every halfedge on them becomes boundary).
+void match_twins(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex_of_corner) {
+  const std::size_t halfedge_count = input_vertex_of_corner.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(halfedge_count);
+  for (std::uint32_t h = 0; h < halfedge_count; ++h) {
+    std::uint64_t a = input_vertex_of_corner[h], b = input_vertex_of_corner[next_halfedge(h)];
+    if (a > b) std::swap(a, b);
+    keyed[h] = {(a << 32) | b, h};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  const auto& P = s.input_positions;
+  s.twin.assign(halfedge_count, kNone);
+  for (std::size_t i = 0; i < keyed.size();) {
+    std::size_t j = i;
+    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+    const std::size_t count = j - i;
+    const auto a = static_cast<std::uint32_t>(keyed[i].first >> 32), b = static_cast<std::uint32_t>(keyed[i].first);
+    if (position(P, a) == position(P, b)) ++s.report.zero_length_edges;
+    if (count == 1) {
+      ++s.report.boundary_edges;
+    } else if (count == 2) {
+      s.twin[keyed[i].second] = keyed[i + 1].second;
+      s.twin[keyed[i + 1].second] = keyed[i].second;
+    } else {
+      ++s.report.non_manifold_edges;
+    }
+    i = j;
+  }
+}
+
+// The corner of `h`'s face at the end of `h` that is vertex `v` (v is the tail or head of h).
+std::uint32_t corner_at(const std::vector<std::uint32_t>& input_vertex_of_corner, std::uint32_t h,
+                        std::uint32_t v) {
+  return input_vertex_of_corner[h] == v ? h : next_halfedge(h);
+}
+
+// Split every input vertex into one surface vertex per fan of faces connected across twin edges.
+void split_into_fans(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex_of_corner,
+                     std::size_t input_vertex_count) {
+  const auto corner_count = static_cast<std::uint32_t>(input_vertex_of_corner.size());
+  UnionFind fans(corner_count);
+  for (std::uint32_t h = 0; h < corner_count; ++h) {
+    const std::uint32_t t = s.twin[h];
+    if (t == kNone || t < h) continue;
+    for (std::uint32_t v : {input_vertex_of_corner[h], input_vertex_of_corner[next_halfedge(h)]})
+      fans.unite(corner_at(input_vertex_of_corner, h, v), corner_at(input_vertex_of_corner, t, v));
+  }
+  // Number surface vertices by input vertex, then by first corner, so output is deterministic.
+  std::vector<std::uint32_t> corners_by_vertex(corner_count);
+  std::iota(corners_by_vertex.begin(), corners_by_vertex.end(), 0u);
+  std::stable_sort(corners_by_vertex.begin(), corners_by_vertex.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return input_vertex_of_corner[a] < input_vertex_of_corner[b];
+  });
+  std::vector<std::uint32_t> surface_of_root(corner_count, kNone);
+  s.corner_vertex.assign(corner_count, kNone);
+  s.input_copies_offsets.assign(input_vertex_count + 1, 0);
+  for (std::uint32_t c : corners_by_vertex) {
+    const std::uint32_t root = fans.find(c);
+    if (surface_of_root[root] == kNone) {
+      surface_of_root[root] = s.vertex_count++;
+      s.surface_to_input.push_back(input_vertex_of_corner[c]);
+      ++s.input_copies_offsets[input_vertex_of_corner[c] + 1];
+    }
+    s.corner_vertex[c] = surface_of_root[root];
+  }
+  for (std::size_t v = 0; v < input_vertex_count; ++v) {
+    if (s.input_copies_offsets[v + 1] > 1) ++s.report.non_manifold_vertices;
+    s.input_copies_offsets[v + 1] += s.input_copies_offsets[v];
+  }
+  // Surface vertices were numbered in input-vertex order, so copies are already grouped.
+  s.input_copies.resize(s.vertex_count);
+  std::iota(s.input_copies.begin(), s.input_copies.end(), 0u);
+
+  s.vertex_corner_offsets.assign(s.vertex_count + 1, 0);
+  for (std::uint32_t c = 0; c < corner_count; ++c) ++s.vertex_corner_offsets[s.corner_vertex[c] + 1];
+  for (std::uint32_t v = 0; v < s.vertex_count; ++v) s.vertex_corner_offsets[v + 1] += s.vertex_corner_offsets[v];
+  s.vertex_corners.resize(corner_count);
+  std::vector<std::uint32_t> fill(s.vertex_corner_offsets.begin(), s.vertex_corner_offsets.end() - 1);
+  for (std::uint32_t c = 0; c < corner_count; ++c) s.vertex_corners[fill[s.corner_vertex[c]]++] = c;
+}
+
+// Edge lengths, apex positions in each halfedge frame, angle sums and pseudo-source classification.
+void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex_of_corner) {
+  const std::uint32_t face_count = s.face_count();
+  s.halfedges.resize(3 * std::size_t{face_count});
+  std::vector<double> angle_sum(s.vertex_count, 0.0);
+  std::vector<std::uint8_t> on_boundary(s.vertex_count, 0);
+  std::vector<std::uint8_t> near_degenerate(s.vertex_count, 0);
+  const auto& P = s.input_positions;
+  for (std::uint32_t f = 0; f < face_count; ++f) {
+    const std::array<Vec3, 3> corner = {position(P, input_vertex_of_corner[3 * f]),
+                                        position(P, input_vertex_of_corner[3 * f + 1]),
+                                        position(P, input_vertex_of_corner[3 * f + 2])};
+    double longest = 0;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
+      const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
+      const double length = norm(ab);
+      longest = std::max(longest, length);
+      HalfedgeGeometry& g = s.halfedges[3 * f + i];
+      g.length = length;
+      if (length > 0) {
+        g.apex_x = dot(ac, ab) / length;
+        g.apex_y = norm(cross(ac, ab)) / length;
+      } else {  // A and B coincide: place C straight above them, which keeps the unfolding consistent
+        g.apex_x = 0;
+        g.apex_y = norm(ac);
+      }
+    }
+    const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
+    const bool degenerate = doubled_area <= kDegenerateAreaRatio * longest * longest;
+    s.report.degenerate_faces += degenerate;
+    for (int i = 0; i < 3; ++i) {
+      const HalfedgeGeometry& g = s.halfedges[3 * f + i];
+      const std::uint32_t v = s.corner_vertex[3 * f + i];
+      angle_sum[v] += std::atan2(g.apex_y, g.apex_x);
+      if (degenerate) near_degenerate[v] = 1;
+    }
+  }
+  for (std::uint32_t h = 0; h < s.twin.size(); ++h) {
+    if (s.twin[h] != kNone) continue;
+    on_boundary[s.tail(h)] = 1;
+    on_boundary[s.head(h)] = 1;
+  }
+  s.is_pseudo_source.assign(s.vertex_count, 0);
+  for (std::uint32_t v = 0; v < s.vertex_count; ++v) {
+    const double full = on_boundary[v] ? std::numbers::pi : 2 * std::numbers::pi;
+    // A shortest path through a vertex leaves it at an angle of at least pi on both sides (interior) or on
+    // the surface side (boundary), so it bends only where the angle sum exceeds 2*pi or pi.
+    const bool bends = angle_sum[v] > full + kSaddleAngleTolerance;
+    s.is_pseudo_source[v] = bends || near_degenerate[v];
+    if (!on_boundary[v] && angle_sum[v] > full + kSaddleAngleTolerance) ++s.report.saddle_vertices;
+  }
+}
+
+// After splitting, two faces of a cut edge may meet again at the same surface copies of both its ends:
+// the fans at both ends already join them, so joining the edge too keeps the surface manifold and loses
+// no connection the input had. Edges that now pair up exactly two faces are joined.
+void join_cut_edges_between_same_copies(SurfaceMesh& s) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  for (std::uint32_t h = 0; h < s.twin.size(); ++h) {
+    if (s.twin[h] != kNone) continue;
+    std::uint64_t a = s.tail(h), b = s.head(h);
+    if (a > b) std::swap(a, b);
+    keyed.push_back({(a << 32) | b, h});
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t i = 0; i < keyed.size();) {
+    std::size_t j = i;
+    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+    if (j - i == 2) {
+      s.twin[keyed[i].second] = keyed[i + 1].second;
+      s.twin[keyed[i + 1].second] = keyed[i].second;
+    }
+    i = j;
+  }
+}
+
+std::size_t count_components(const SurfaceMesh& s) {
+  UnionFind faces(s.face_count());
+  for (std::uint32_t h = 0; h < s.twin.size(); ++h)
+    if (s.twin[h] != kNone) faces.unite(face_of(h), face_of(s.twin[h]));
+  std::size_t components = 0;
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) components += faces.find(f) == f;
+  return components;
+}
+
+}  // namespace
+}  // namespace detail
+
+Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> triangles, const MeshOptions& options) {
+  using namespace detail;
+  validate_arrays(positions, triangles);
+  auto s = std::make_shared<SurfaceMesh>();
+  s->input_positions.assign(positions.begin(), positions.end());
+  s->input_triangles.assign(triangles.begin(), triangles.end());
+  const std::size_t vertex_count = positions.size() / 3;
+  MeshReport& report = s->report;
+  report.vertices = vertex_count;
+  report.faces = triangles.size() / 3;
+
+  const std::vector<std::uint32_t> same_position = find_duplicate_positions(s->input_positions,
+                                                                            report.duplicate_positions);
+  // Corners of the kept faces, as input vertices (after welding, if asked).
+  std::vector<std::uint32_t> input_vertex_of_corner;
+  input_vertex_of_corner.reserve(triangles.size());
+  std::vector<std::uint8_t> used(vertex_count, 0);
+  for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
+    std::array<std::uint32_t, 3> v = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]};
+    if (options.weld_duplicate_positions)
+      for (auto& x : v) x = same_position[x];
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+      ++report.faces_repeating_a_vertex;
+      continue;
+    }
+    input_vertex_of_corner.insert(input_vertex_of_corner.end(), v.begin(), v.end());
+    for (std::uint32_t x : {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]}) used[x] = 1;
+  }
+  report.faces_used = input_vertex_of_corner.size() / 3;
+  if (report.faces_used == 0)
+    throw Error(ErrorCode::invalid_mesh, "mesh has no usable face: all " + std::to_string(report.faces) +
+                                             " faces repeat a vertex");
+  if (options.weld_duplicate_positions)
+    for (std::size_t v = 0; v < vertex_count; ++v) report.welded_vertices += same_position[v] != v;
+  for (std::size_t v = 0; v < vertex_count; ++v) report.unreferenced_vertices += !used[v];
+
+  s->canonical_input.resize(vertex_count);
+  for (std::size_t v = 0; v < vertex_count; ++v)
+    s->canonical_input[v] = options.weld_duplicate_positions ? same_position[v] : static_cast<std::uint32_t>(v);
+  match_twins(*s, input_vertex_of_corner);
+  split_into_fans(*s, input_vertex_of_corner, vertex_count);
+  if (report.non_manifold_edges > 0) join_cut_edges_between_same_copies(*s);
+  compute_geometry(*s, input_vertex_of_corner);
+  report.surface_vertices = s->vertex_count;
+  report.components = count_components(*s);
+
+  std::array<double, 3> lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (std::uint32_t v : input_vertex_of_corner)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], positions[3 * v + k]);
+      hi[k] = std::max(hi[k], positions[3 * v + k]);
+    }
+  const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+  s->length_scale = diagonal > 0 ? diagonal : 1.0;
+  surface_ = std::move(s);
+}
+
+std::size_t Mesh::vertex_count() const noexcept { return surface_->report.vertices; }
+std::size_t Mesh::face_count() const noexcept { return surface_->report.faces; }
+std::span<const double> Mesh::positions() const noexcept { return surface_->input_positions; }
+std::span<const std::uint32_t> Mesh::triangles() const noexcept { return surface_->input_triangles; }
+const MeshReport& Mesh::report() const noexcept { return surface_->report; }
+
+}  // namespace exactgeo

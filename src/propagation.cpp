@@ -1,0 +1,248 @@
+#include "propagation.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace exactgeo::detail {
+namespace {
+
+double distance_at(const Window& w, double x) { return w.sigma + std::hypot(x - w.px, w.py); }
+
+// Where the line from the pseudo-source through C meets AB (paper Section 4.1). When both lie on AB's line
+// (a flat triangle and a pseudo-source on the edge) every ray runs along AB; any split point is as good.
+double apex_split(const Window& w, const FaceFrame& f) {
+  const double rise = f.apex_y - w.py;
+  if (!(rise > 0)) return w.b1;
+  return w.px + (f.apex_x - w.px) * (-w.py / rise);
+}
+
+// Shortest distance from the pseudo-source to C through [b0, b1]: straight if C is visible through the
+// window, otherwise bent at the nearer endpoint. Also returns where that path crosses AB.
+std::pair<double, double> distance_to_apex(const Window& w, const FaceFrame& f) {
+  const double split = apex_split(w, f);
+  if (split >= w.b0 && split <= w.b1)
+    return {w.sigma + std::hypot(f.apex_x - w.px, f.apex_y - w.py), split};
+  const double end = split < w.b0 ? w.b0 : w.b1;
+  return {distance_at(w, end) + std::hypot(f.apex_x - end, f.apex_y), end};
+}
+
+// A ray from (px, py) through (x, 0) continues across the triangle; returns where it meets the edge that
+// leaves the origin in direction (cos_angle, sin_angle), as a distance from the origin clamped to [0, length].
+double hit_side(double px, double py, double x, double cos_angle, double sin_angle, double side_length) {
+  const double denominator = py * cos_angle + sin_angle * (x - px);
+  double u;
+  if (denominator < 0)
+    u = py * x / denominator;
+  else
+    u = x > 0 ? side_length : 0;  // parallel or receding: the ray reaches the side's far end at the limit
+  return std::clamp(u, 0.0, side_length);
+}
+
+// Removes the part of `w` that the vertex at x = 0 with distance d_start, or the vertex at x = length with
+// distance d_end, reaches more cheaply along the edge (Case 12). Returns false if nothing is left.
+// Near the start vertex the excess D_w(x) - d_start - x is non-increasing in x, near the end vertex
+// D_w(x) - d_end - (length - x) is non-decreasing, so each check removes a prefix or a suffix.
+bool check_with_vertices(Window& w, double length, double d_start, double d_end, const Tolerances& tol) {
+  if (distance_at(w, w.b1) > d_start + w.b1 + tol.prune) return false;
+  if (distance_at(w, w.b0) > d_end + (length - w.b0) + tol.prune) return false;
+  if (distance_at(w, w.b0) > d_start + w.b0 + tol.prune) {
+    const double k = d_start + tol.prune - w.sigma;  // solve sigma + r(x) = d_start + tol + x
+    const double denominator = 2 * (w.px + k);
+    if (denominator > 0) {
+      const double tie = (w.px * w.px + w.py * w.py - k * k) / denominator;
+      if (tie > w.b0 && tie < w.b1) w.b0 = tie;
+    }
+  }
+  if (distance_at(w, w.b1) > d_end + (length - w.b1) + tol.prune) {
+    const double k = d_end + tol.prune + length - w.sigma;  // solve sigma + r(x) = d_end + tol + length - x
+    const double denominator = 2 * (k - w.px);
+    if (denominator > 0) {
+      const double tie = (k * k - w.px * w.px - w.py * w.py) / denominator;
+      if (tie > w.b0 && tie < w.b1) w.b1 = tie;
+    }
+  }
+  return w.b1 - w.b0 > tol.min_width;
+}
+
+// Crosses the part [x0, x1] of `w` to the side leaving the origin at the given angle. The frame is AB's, or
+// its mirror image (x -> length - x) for the side BC.
+Window cross_to_side(const Window& w, double px, double x0, double x1, double cos_angle, double sin_angle,
+                     double side_length) {
+  Window out;
+  out.b0 = hit_side(px, w.py, x0, cos_angle, sin_angle, side_length);
+  out.b1 = hit_side(px, w.py, x1, cos_angle, sin_angle, side_length);
+  // Rotate by -angle: the side becomes the x axis, the triangle (and the pseudo-source) lie below it.
+  out.px = px * cos_angle + w.py * sin_angle;
+  out.py = std::min(w.py * cos_angle - px * sin_angle, 0.0);
+  out.sigma = w.sigma;
+  out.pseudo_source = w.pseudo_source;
+  out.next = kNone;
+  return out;
+}
+
+enum class Verdict { keep, trimmed, removed };
+
+// Over the overlap of `first` and `second` (same edge, same side), trims from either window the end
+// pieces where the other is shorter by more than the tolerance; removes a window that is beaten everywhere.
+// Sound for any pair: a point of the overlap is reached by both, so a ray of the loser through it is
+// beaten by the winner's path to that point followed by the same ray.
+std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const Tolerances& tol) {
+  const double lo = std::max(first.b0, second.b0), hi = std::min(first.b1, second.b1);
+  if (!(hi - lo > tol.min_width)) return {Verdict::keep, Verdict::keep};
+
+  // Breakpoints where second - first may change sign: roots of the quadratic obtained by squaring
+  // r2 - r1 = alpha twice (x measured from lo for conditioning). Spurious roots only add breakpoints.
+  const double p1x = first.px - lo, p2x = second.px - lo;
+  const double alpha = first.sigma - second.sigma;
+  const double r1sq = p1x * p1x + first.py * first.py, r2sq = p2x * p2x + second.py * second.py;
+  const double a1 = 2 * (p1x - p2x), c1 = r2sq - r1sq - alpha * alpha;
+  const double qa = a1 * a1 - 4 * alpha * alpha;
+  const double qb = 2 * a1 * c1 + 8 * alpha * alpha * p1x;
+  const double qc = c1 * c1 - 4 * alpha * alpha * r1sq;
+  const double span = hi - lo;
+  std::array<double, 2> roots{};
+  int root_count = 0;
+  // The squared equation loses precision when the two distance functions nearly coincide: polish each
+  // root with Newton steps on the difference itself, and keep it only if it stays inside the overlap.
+  auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
+  auto add_root = [&](double x) {
+    for (int step = 0; step < 3 && x > 0 && x < span; ++step) {
+      const double slope = (lo + x - second.px) / std::hypot(lo + x - second.px, second.py) -
+                           (lo + x - first.px) / std::hypot(lo + x - first.px, first.py);
+      if (!(std::abs(slope) > 1e-12)) break;
+      x -= difference(x) / slope;
+    }
+    if (x > 0 && x < span) roots[root_count++] = x;
+  };
+  const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
+  if (std::abs(qa) * span * span > 1e-14 * scale) {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc >= 0) {
+      const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+      add_root(q / qa);
+      if (q != 0) add_root(qc / q);
+    }
+  } else if (qb != 0) {
+    add_root(-qc / qb);
+  }
+  if (root_count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
+  std::array<double, 4> breaks = {0, roots[0], roots[1], 0};
+  breaks[root_count + 1] = span;
+  const int count = root_count + 2;
+
+  // Sign of (second - first) on each piece. A piece counts as lost by one window only if the difference
+  // says so at its midpoint, its quarter points and at whichever of its ends is an end of the overlap (a
+  // root is where the sign changes, so it proves nothing): a root that was missed leaves no piece mislabelled.
+  std::array<int, 3> sign{};
+  const int pieces = count - 1;
+  auto sign_of = [&](double x) {
+    const double d = difference(x);
+    return d > tol.prune ? 1 : (d < -tol.prune ? -1 : 0);
+  };
+  for (int k = 0; k < pieces; ++k) {
+    const double u = breaks[k], v = breaks[k + 1];
+    int s = sign_of(0.5 * (u + v));
+    if (sign_of(0.75 * u + 0.25 * v) != s || sign_of(0.25 * u + 0.75 * v) != s) s = 0;
+    if (k == 0 && sign_of(u) != s) s = 0;
+    if (k == pieces - 1 && sign_of(v) != s) s = 0;
+    sign[k] = s;
+  }
+  // Trims from `w` the pieces where it loses (sign == loser), from whichever of its ends lie in the overlap.
+  auto trim = [&](Window& w, int loser) {
+    const bool starts_in = w.b0 >= lo, ends_in = w.b1 <= hi;
+    int left = 0, right = 0;
+    if (starts_in)
+      while (left < pieces && sign[left] == loser) ++left;
+    if (left == pieces && ends_in) return Verdict::removed;
+    if (ends_in)
+      while (right < pieces - left && sign[pieces - 1 - right] == loser) ++right;
+    if (left == 0 && right == 0) return Verdict::keep;
+    if (left > 0) w.b0 = lo + breaks[left];
+    if (right > 0) w.b1 = lo + breaks[pieces - right];
+    return w.b1 - w.b0 > tol.min_width ? Verdict::trimmed : Verdict::removed;
+  };
+  const Verdict second_verdict = trim(second, 1);
+  const Verdict first_verdict = trim(first, -1);
+  return {first_verdict, second_verdict};
+}
+
+// One step of the Rule 2 walk: checks `incoming` against the kept windows kept[0, count), from the last
+// backwards while those get removed, then keeps `incoming` unless it was removed itself.
+void keep_if_not_beaten(Window* kept, std::size_t& count, Window incoming, const Tolerances& tol) {
+  while (count > 0) {
+    const auto [kept_verdict, incoming_verdict] = resolve_overlap(kept[count - 1], incoming, tol);
+    if (incoming_verdict == Verdict::removed) return;
+    if (kept_verdict != Verdict::removed) break;
+    --count;
+  }
+  kept[count++] = incoming;
+}
+
+}  // namespace
+
+ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame) {
+  ApexReach best{HUGE_VAL, kNone, 0};
+  for (std::uint32_t i = 0; i < list.size(); ++i) {
+    const auto [distance, crossing] = distance_to_apex(list[i], frame);
+    if (distance < best.distance) best = {distance, i, crossing};
+  }
+  return best;
+}
+
+std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& f, const ApexReach& reach, bool rule1,
+                         const CornerDistances& corners, const Tolerances& tol, std::vector<Window>& to_ac,
+                         std::vector<Window>& to_bc) {
+  const double length_ac_frame = std::hypot(f.apex_x, f.apex_y);
+  const double length_bc_frame = std::hypot(f.length - f.apex_x, f.apex_y);
+  // Direction of AC from A, and of BC from B in the mirrored frame; a zero-length side has no direction.
+  const double cos_a = length_ac_frame > 0 ? f.apex_x / length_ac_frame : 1, sin_a = length_ac_frame > 0 ? f.apex_y / length_ac_frame : 0;
+  const double cos_b = length_bc_frame > 0 ? (f.length - f.apex_x) / length_bc_frame : 1,
+               sin_b = length_bc_frame > 0 ? f.apex_y / length_bc_frame : 0;
+  std::uint64_t propagations = 0;
+  const std::size_t bc_begin = to_bc.size();
+  for (const Window& w : list) {
+    // Rays left of the split point reach AC, rays right of it reach BC. Rule 1 (paper Proposition 4.1, in a
+    // form that is sound for every ray): a ray entering left of the list's separating point s that would
+    // reach BC must cross w_s's path s -> C inside the triangle, where w_s's path is no longer (else this
+    // window would reach C more cheaply than w_s); likewise for rays entering right of s that would reach AC.
+    const double split = apex_split(w, f);
+    double left_end = std::min(w.b1, split), right_start = std::max(w.b0, split);
+    if (rule1) {
+      left_end = std::min(left_end, reach.separating_point);
+      right_start = std::max(right_start, reach.separating_point);
+    }
+    if (left_end - w.b0 > tol.min_width) {
+      ++propagations;
+      Window out = cross_to_side(w, w.px, w.b0, left_end, cos_a, sin_a, f.length_ac);
+      if (check_with_vertices(out, f.length_ac, corners.a, corners.c, tol)) to_ac.push_back(out);
+    }
+    if (w.b1 - right_start > tol.min_width) {
+      ++propagations;
+      // Mirror x -> length - x so that B is the origin; the piece's ends swap.
+      Window out = cross_to_side(w, f.length - w.px, f.length - w.b1, f.length - right_start, cos_b, sin_b,
+                                 f.length_bc);
+      if (check_with_vertices(out, f.length_bc, corners.b, corners.c, tol)) to_bc.push_back(out);
+    }
+  }
+  // Windows reach BC (measured from B) in the reverse order of their position on AB; keep each output list
+  // ordered along its edge so that neighbours in the list are neighbours on the edge.
+  std::reverse(to_bc.begin() + static_cast<std::ptrdiff_t>(bc_begin), to_bc.end());
+  return propagations;
+}
+
+void prune_neighbours(std::vector<Window>& list, const Tolerances& tol) {
+  // The kept windows form a prefix of the list itself: it never grows past the read position.
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < list.size(); ++i) keep_if_not_beaten(list.data(), count, list[i], tol);
+  list.resize(count);
+}
+
+void merge_pruned(std::vector<Window>& merged, std::span<const Window> incoming, const Tolerances& tol) {
+  std::size_t count = merged.size();
+  merged.resize(count + incoming.size());
+  for (const Window& w : incoming) keep_if_not_beaten(merged.data(), count, w, tol);
+  merged.resize(count);
+}
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,70 @@
+// Propagating a window list across one triangle (paper Section 4): Rule 1 splits the list at its
+// separating point, each part crosses to one opposite edge, and the crossed windows are checked against
+// the edge's vertices (Case 12) and against their neighbours in the list (Rules 2 and 3).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "windows.hpp"
+
+namespace exactgeo::detail {
+
+// Triangle ABC seen from halfedge AB: A at the origin, B at (length, 0), C at (apex_x, apex_y).
+struct FaceFrame {
+  double length;
+  double apex_x, apex_y;
+  double length_ac, length_bc;
+};
+
+struct Tolerances {
+  double prune;      // absolute: a window is pruned only if beaten by more than this
+  double min_width;  // absolute: narrower windows are dropped
+};
+
+// How a list reaches C (paper Section 4.1): the shortest distance to C through any of its windows, the
+// window giving it (w_s) and where that path crosses AB (the list's separating point).
+struct ApexReach {
+  double distance;
+  std::uint32_t window;  // index into the list
+  double separating_point;
+};
+ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame);
+
+// Distances known at the vertices of the triangle, for checking crossed windows against them.
+struct CornerDistances {
+  double a, b, c;
+};
+
+// Crosses every window of `list` (on AB) into the triangle and appends the parts leaving through AC to
+// `to_ac` (frame: A at the origin, x along AC, B's side at y < 0) and through BC to `to_bc` (frame: B at the
+// origin, x along BC), dropping parts that Rule 1 (if `rule1`) or the vertex check shows redundant.
+// Returns the number of window propagations performed.
+std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& frame, const ApexReach& reach, bool rule1,
+                         const CornerDistances& corners, const Tolerances& tolerances, std::vector<Window>& to_ac,
+                         std::vector<Window>& to_bc);
+
+// Rule 2 (paper Section 4.2): walks the list once, checking each window against the windows kept before it
+// (backtracking while those get removed) and trimming or removing whatever part of either is strictly
+// longer than the other over their overlap. Order of the survivors is kept. `list` must lie on one edge with
+// all pseudo-sources on the same side.
+void prune_neighbours(std::vector<Window>& list, const Tolerances& tolerances);
+
+// Rule 3 (PrimeMerge, paper Section 4.3): appends `incoming` to `merged` (already pruned) and continues
+// the Rule 2 walk across the junction.
+void merge_pruned(std::vector<Window>& merged, std::span<const Window> incoming, const Tolerances& tolerances);
+
+// Re-expresses a window on an edge in the frame of the halfedge on the other side of that edge: x runs
+// from the same end (`reversed` false) or from the other end (true); the pseudo-source stays below.
+inline Window to_twin_frame(Window w, double edge_length, bool reversed) {
+  if (reversed) {
+    const double b0 = edge_length - w.b1;
+    w.b1 = edge_length - w.b0;
+    w.b0 = b0;
+    w.px = edge_length - w.px;
+  }
+  return w;
+}
+
+}  // namespace exactgeo::detail

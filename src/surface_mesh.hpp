@@ -1,0 +1,69 @@
+// The manifold surface the engine runs on: compact connectivity as index arrays and cached geometry.
+//
+// Halfedge h = 3 * face + i runs from corner i to corner (i + 1) % 3 of its face; the corner opposite it is
+// (i + 2) % 3. Windows on h are windows on that edge about to enter h's face. Each halfedge has a local 2D
+// frame: its tail A at the origin, its head B at (length, 0), the opposite corner C at (apex_x, apex_y) with
+// apex_y >= 0. Faces keep the input winding; the engine never relies on consistent orientation.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "exactgeo/mesh.hpp"
+
+namespace exactgeo::detail {
+
+inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+inline std::uint32_t face_of(std::uint32_t halfedge) { return halfedge / 3; }
+inline std::uint32_t next_halfedge(std::uint32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
+inline std::uint32_t prev_halfedge(std::uint32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
+
+struct HalfedgeGeometry {
+  double length;  // |AB|
+  double apex_x;  // C in the halfedge frame
+  double apex_y;
+};
+
+struct SurfaceMesh {
+  // The input as given (positions and the kept triangles, in input order).
+  std::vector<double> input_positions;
+  std::vector<std::uint32_t> input_triangles;
+  MeshReport report;
+
+  // Surface vertices: input vertices, split where non-manifold.
+  std::uint32_t vertex_count = 0;
+  std::vector<std::uint32_t> surface_to_input;         // surface vertex -> input vertex
+  std::vector<std::uint32_t> input_copies_offsets;     // input vertex -> [offsets[v], offsets[v+1]) in input_copies
+  std::vector<std::uint32_t> input_copies;             // surface vertices of each input vertex
+  std::vector<std::uint32_t> canonical_input;          // input vertex -> the one it was welded into (or itself)
+
+  // Faces that survived validation (faces repeating a vertex are dropped).
+  std::vector<std::uint32_t> corner_vertex;   // 3 per face: surface vertex at each corner
+  std::vector<std::uint32_t> twin;            // per halfedge: the halfedge across its edge, or kNone
+  std::vector<HalfedgeGeometry> halfedges;    // per halfedge
+
+  // Corners around each surface vertex (corner c = halfedge index of the halfedge leaving that corner).
+  std::vector<std::uint32_t> vertex_corner_offsets;
+  std::vector<std::uint32_t> vertex_corners;
+
+  // Vertices where geodesics can bend: saddles, boundary vertices with angle above pi, vertices of
+  // degenerate faces (kept conservatively). They re-emit windows as pseudo-sources.
+  std::vector<std::uint8_t> is_pseudo_source;
+
+  double length_scale = 1.0;  // bounding-box diagonal of the used vertices
+
+  // Surface vertices that carry input vertex v's distance (none if v is used by no face).
+  std::span<const std::uint32_t> copies_of(std::uint32_t input_vertex) const {
+    const std::uint32_t c = canonical_input[input_vertex];
+    return {input_copies.data() + input_copies_offsets[c], input_copies.data() + input_copies_offsets[c + 1]};
+  }
+  std::uint32_t face_count() const { return static_cast<std::uint32_t>(corner_vertex.size() / 3); }
+  std::uint32_t tail(std::uint32_t h) const { return corner_vertex[h]; }
+  std::uint32_t head(std::uint32_t h) const { return corner_vertex[next_halfedge(h)]; }
+  std::uint32_t apex(std::uint32_t h) const { return corner_vertex[prev_halfedge(h)]; }
+};
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,23 @@
+// Named tolerances of the engine. Exact algorithm, double precision: every comparison that decides what
+// to keep errs on the side of keeping, so a tolerance costs work, never a shortest path.
+#pragma once
+
+namespace exactgeo::detail {
+
+// Angle excess over 2*pi (interior vertex) or pi (boundary vertex) above which a vertex is a pseudo-source.
+// Flat vertices of subdivided meshes sum to 2*pi up to rounding (~1e-15) and are not saddles; a vertex whose
+// excess is below this loses at most a wedge of that width, far below the distance accuracy we guarantee.
+inline constexpr double kSaddleAngleTolerance = 1e-10;
+
+// Relative to the mesh's length scale (bounding-box diagonal):
+// a window is pruned only if the alternative path is shorter by more than this;
+inline constexpr double kPruneTolerance = 1e-12;
+// a window narrower than this is dropped (the edge points it covers are within this of its neighbours');
+inline constexpr double kMinWindowWidth = 1e-13;
+// a pseudo-source re-emits windows only when its distance drops by more than this.
+inline constexpr double kReemitTolerance = 1e-12;
+
+// A face whose doubled area is below this times its longest edge squared counts as degenerate.
+inline constexpr double kDegenerateAreaRatio = 1e-12;
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,181 @@
+#include "test_meshes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <queue>
+#include <sstream>
+#include <utility>
+
+#include "exactgeo/io.hpp"
+
+namespace exactgeo_test {
+namespace {
+
+const std::filesystem::path kSharedMeshDir = EXACTGEO_SHARED_MESH_DIR;
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
+};
+
+// Faces (that do not repeat a vertex) using each undirected edge.
+std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> faces_of_edges(
+    const exactgeo::MeshSoup& soup) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> faces;
+  for (std::size_t f = 0; f < face_count(soup); ++f) {
+    if (repeats_a_vertex(soup, f)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = soup.triangles[3 * f + k], b = soup.triangles[3 * f + (k + 1) % 3];
+      faces[{std::min(a, b), std::max(a, b)}].push_back(static_cast<std::uint32_t>(f));
+    }
+  }
+  return faces;
+}
+
+}  // namespace
+
+bool shared_meshes_available() { return std::filesystem::is_directory(kSharedMeshDir); }
+
+std::vector<std::string> shared_mesh_names() {
+  std::vector<std::string> names;
+  if (!shared_meshes_available()) return names;
+  for (const auto& entry : std::filesystem::directory_iterator(kSharedMeshDir)) {
+    std::string extension = entry.path().extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
+      return static_cast<char>(std::tolower(c));
+    });
+    if (entry.is_regular_file() &&
+        (extension == ".obj" || extension == ".ply" || extension == ".off" || extension == ".stl"))
+      names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::optional<exactgeo::MeshSoup> load_shared_mesh(std::string_view name) {
+  if (!shared_meshes_available()) return std::nullopt;
+  return exactgeo::read_mesh_soup(kSharedMeshDir / std::string(name));
+}
+
+Vec3 vertex_position(const exactgeo::MeshSoup& soup, std::uint32_t v) {
+  return {soup.positions[3 * v], soup.positions[3 * v + 1], soup.positions[3 * v + 2]};
+}
+
+double distance(const Vec3& a, const Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
+
+double distance_between(const exactgeo::MeshSoup& soup, std::uint32_t a, std::uint32_t b) {
+  return distance(vertex_position(soup, a), vertex_position(soup, b));
+}
+
+std::size_t vertex_count(const exactgeo::MeshSoup& soup) { return soup.positions.size() / 3; }
+std::size_t face_count(const exactgeo::MeshSoup& soup) { return soup.triangles.size() / 3; }
+
+bool repeats_a_vertex(const exactgeo::MeshSoup& soup, std::size_t face) {
+  const std::uint32_t* t = &soup.triangles[3 * face];
+  return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+}
+
+std::vector<std::array<std::uint32_t, 2>> unique_edges(const exactgeo::MeshSoup& soup) {
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  for (const auto& [edge, faces] : faces_of_edges(soup)) edges.push_back({edge.first, edge.second});
+  return edges;
+}
+
+std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uint32_t source) {
+  const std::size_t n = vertex_count(soup);
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> neighbours(n);
+  for (const auto& [a, b] : unique_edges(soup)) {
+    const double length = distance_between(soup, a, b);
+    neighbours[a].push_back({b, length});
+    neighbours[b].push_back({a, length});
+  }
+  std::vector<double> d(n, HUGE_VAL);
+  using Entry = std::pair<double, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  d[source] = 0;
+  queue.push({0.0, source});
+  while (!queue.empty()) {
+    const auto [dv, v] = queue.top();
+    queue.pop();
+    if (dv > d[v]) continue;
+    for (const auto& [w, length] : neighbours[v]) {
+      if (dv + length < d[w]) {
+        d[w] = dv + length;
+        queue.push({d[w], w});
+      }
+    }
+  }
+  return d;
+}
+
+std::optional<std::uint32_t> first_boundary_vertex(const exactgeo::MeshSoup& soup) {
+  for (const auto& [edge, faces] : faces_of_edges(soup))
+    if (faces.size() == 1) return edge.first;
+  return std::nullopt;
+}
+
+std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t seed) {
+  UnionFind pieces(face_count(soup));
+  for (const auto& [edge, faces] : faces_of_edges(soup))
+    if (faces.size() == 2) pieces.unite(faces[0], faces[1]);
+  std::vector<std::uint32_t> size(face_count(soup), 0);
+  for (std::uint32_t f = 0; f < face_count(soup); ++f)
+    if (!repeats_a_vertex(soup, f)) ++size[pieces.find(f)];
+  const auto largest = static_cast<std::uint32_t>(std::max_element(size.begin(), size.end()) - size.begin());
+  std::vector<std::uint32_t> faces;
+  for (std::uint32_t f = 0; f < face_count(soup); ++f)
+    if (!repeats_a_vertex(soup, f) && pieces.find(f) == largest) faces.push_back(f);
+  Random random(seed);
+  const std::uint32_t face = faces[random.below(faces.size())];
+  return soup.triangles[3 * face + random.below(3)];
+}
+
+double max_finite(std::span<const double> values) {
+  double largest = 0;
+  for (double x : values)
+    if (std::isfinite(x)) largest = std::max(largest, x);
+  return largest;
+}
+
+testing::AssertionResult distances_match(std::span<const double> actual, std::span<const double> expected,
+                                         double relative_tolerance, double* max_relative_error) {
+  if (actual.size() != expected.size())
+    return testing::AssertionFailure() << "sizes differ: " << actual.size() << " vs " << expected.size();
+  const double scale = max_finite(expected);
+  double worst = 0;
+  std::size_t worst_vertex = 0;
+  for (std::size_t v = 0; v < actual.size(); ++v) {
+    if (std::isfinite(actual[v]) != std::isfinite(expected[v]))
+      return testing::AssertionFailure() << "vertex " << v << ": got " << actual[v] << ", expected " << expected[v];
+    if (!std::isfinite(expected[v])) continue;
+    const double error = std::abs(actual[v] - expected[v]);
+    if (error > worst) {
+      worst = error;
+      worst_vertex = v;
+    }
+  }
+  const double relative = scale > 0 ? worst / scale : worst;
+  if (max_relative_error) *max_relative_error = relative;
+  if (relative <= relative_tolerance) return testing::AssertionSuccess();
+  std::ostringstream message;
+  message.precision(17);
+  message << "vertex " << worst_vertex << ": got " << actual[worst_vertex] << ", expected " << expected[worst_vertex]
+          << " (error " << relative << " of the largest distance " << scale << ", allowed " << relative_tolerance
+          << ")";
+  return testing::AssertionFailure() << message.str();
+}
+
+std::string rule_combination_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info) {
+  return std::string("Rule1") + (info.param.rule1 ? "On" : "Off") + "_Rule23" + (info.param.rule23 ? "On" : "Off");
+}
+
+}  // namespace exactgeo_test

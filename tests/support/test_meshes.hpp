@@ -1,0 +1,112 @@
+// Helpers shared by the test suites: the real meshes in ../shared/meshes (optional), independent reference
+// computations (edge-graph Dijkstra), distance comparisons, and the four on/off combinations of the
+// engine's pruning rules that every distance test runs under.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "exactgeo/geodesic.hpp"
+#include "exactgeo/mesh.hpp"
+
+namespace exactgeo_test {
+
+using Vec3 = std::array<double, 3>;
+
+// A seeded generator whose numbers are the same on every platform (std::mt19937_64 is fully specified;
+// the standard distributions are not).
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : engine_(seed) {}
+  // Uniform in [lo, hi).
+  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(engine_() >> 11) * 0x1p-53; }
+  // Uniform in [0, n); the modulo bias is irrelevant for test sizes.
+  std::uint32_t below(std::size_t n) { return static_cast<std::uint32_t>(engine_() % n); }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
+// ---- Real meshes ---------------------------------------------------------------------------------------
+
+inline constexpr const char* kNoSharedMeshesMessage = "../shared/meshes not found: skipping tests on real meshes";
+
+// True if the directory given by EXACTGEO_SHARED_MESH_DIR exists.
+bool shared_meshes_available();
+
+// File names (e.g. "cow.obj") of the meshes in the shared directory, sorted; empty if it is absent.
+// The README and anything that is not a mesh format the library reads are left out.
+std::vector<std::string> shared_mesh_names();
+
+// The soup read from the shared directory, or nullopt if the directory is absent. A file missing from a
+// directory that exists is a broken setup, not a reason to skip: read_mesh_soup's error propagates.
+std::optional<exactgeo::MeshSoup> load_shared_mesh(std::string_view name);
+
+// Skips the current test, with a message saying why, when the real meshes are not there.
+#define EXACTGEO_SKIP_IF_NO_SHARED_MESHES()                                             \
+  do {                                                                                  \
+    if (!::exactgeo_test::shared_meshes_available())                                    \
+      GTEST_SKIP() << ::exactgeo_test::kNoSharedMeshesMessage;                          \
+  } while (false)
+
+// ---- Geometry of a soup --------------------------------------------------------------------------------
+
+Vec3 vertex_position(const exactgeo::MeshSoup& soup, std::uint32_t v);
+double distance(const Vec3& a, const Vec3& b);
+double distance_between(const exactgeo::MeshSoup& soup, std::uint32_t a, std::uint32_t b);
+
+std::size_t vertex_count(const exactgeo::MeshSoup& soup);
+std::size_t face_count(const exactgeo::MeshSoup& soup);
+
+// True if the triangle names one vertex twice; the mesh policy drops such faces.
+bool repeats_a_vertex(const exactgeo::MeshSoup& soup, std::size_t face);
+
+// Undirected edges of the faces that do not repeat a vertex, each once, as (low, high) vertex pairs.
+std::vector<std::array<std::uint32_t, 2>> unique_edges(const exactgeo::MeshSoup& soup);
+
+// Shortest paths along mesh edges (Euclidean edge lengths) from `source`: an upper bound on the geodesic
+// distance wherever every vertex on the path is a single surface vertex. +inf where no path exists.
+std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uint32_t source);
+
+// A vertex on a boundary edge (an edge used by exactly one face), or nullopt for a closed mesh.
+std::optional<std::uint32_t> first_boundary_vertex(const exactgeo::MeshSoup& soup);
+
+// A reproducible pseudo-random vertex that a geodesic query can start from: a corner of a random face of
+// the largest piece of the mesh, pieces being faces joined across edges shared by exactly two faces (the
+// joins the mesh policy keeps). The same seed gives the same vertex on every platform.
+std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t seed);
+
+// ---- Distances -----------------------------------------------------------------------------------------
+
+// Largest finite value, or 0 if there is none.
+double max_finite(std::span<const double> values);
+
+// Succeeds if both arrays have the same size, agree on which entries are finite, and every finite entry
+// of `actual` is within relative_tolerance * max_finite(expected) of `expected`. The failure message names
+// the worst vertex. The achieved error is written to *max_relative_error if given.
+testing::AssertionResult distances_match(std::span<const double> actual, std::span<const double> expected,
+                                         double relative_tolerance, double* max_relative_error = nullptr);
+
+// ---- Engine options ------------------------------------------------------------------------------------
+
+// The paper's pruning rules switched on and off in all four combinations: every distance must be exact
+// under each of them.
+inline constexpr std::array<exactgeo::GeodesicOptions, 4> kAllRuleCombinations = {{
+    {.rule1 = true, .rule23 = true},
+    {.rule1 = true, .rule23 = false},
+    {.rule1 = false, .rule23 = true},
+    {.rule1 = false, .rule23 = false},
+}};
+
+// Test-name suffix for a parameter from kAllRuleCombinations, e.g. "Rule1On_Rule23Off".
+std::string rule_combination_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info);
+
+}  // namespace exactgeo_test

@@ -1,0 +1,727 @@
+// Distances whose true values the test computes itself: flat convex domains (Euclidean), flat domains with
+// reflex corners (shortest paths in the visibility graph), the cube and the regular tetrahedron (unfolding),
+// a cone whose apex is a saddle, and symmetric meshes where many vertices tie exactly in the wavefront
+// queue. Each distance test runs with the paper's pruning rules on and off.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "exactgeo/geodesic.hpp"
+#include "exactgeo/mesh.hpp"
+#include "exactgeo/shapes.hpp"
+#include "test_meshes.hpp"
+
+namespace {
+
+using exactgeo::MeshSoup;
+using exactgeo_test::distance;
+using exactgeo_test::distances_match;
+using exactgeo_test::Random;
+using exactgeo_test::Vec3;
+using exactgeo_test::vertex_count;
+using exactgeo_test::vertex_position;
+using Vec2 = std::array<double, 2>;
+
+constexpr double kPi = std::numbers::pi;
+// Distances must match the closed forms to this fraction of the largest distance.
+constexpr double kExact = 1e-12;
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 normalized(const Vec3& a) { return scaled(a, 1.0 / std::sqrt(dot(a, a))); }
+
+Vec2 sub(const Vec2& a, const Vec2& b) { return {a[0] - b[0], a[1] - b[1]}; }
+double cross(const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; }
+double distance(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+void push_vertex(MeshSoup& soup, const Vec3& p) { soup.positions.insert(soup.positions.end(), p.begin(), p.end()); }
+void push_triangle(MeshSoup& soup, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  soup.triangles.insert(soup.triangles.end(), {a, b, c});
+}
+
+// The vertex at exactly position p; fails the test if there is none.
+std::uint32_t vertex_at(const MeshSoup& soup, const Vec3& p) {
+  for (std::uint32_t v = 0; v < vertex_count(soup); ++v)
+    if (vertex_position(soup, v) == p) return v;
+  ADD_FAILURE() << "no vertex at (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  return 0;
+}
+
+// Expected distances from `source` given a function of the two positions.
+std::vector<double> expected_distances(const MeshSoup& soup, std::uint32_t source,
+                                       const std::function<double(const Vec3&, const Vec3&)>& truth) {
+  std::vector<double> d(vertex_count(soup));
+  for (std::uint32_t v = 0; v < d.size(); ++v) d[v] = truth(vertex_position(soup, source), vertex_position(soup, v));
+  return d;
+}
+
+double euclidean(const Vec3& a, const Vec3& b) { return distance(a, b); }
+
+// ---- Flat convex domain ---------------------------------------------------------------------------------
+
+// A random triangulation of a convex polygon: `boundary_count` points at random angles on the unit circle
+// (so all in convex position), fanned from the first, then `interior_count` random points inserted one by
+// one, each splitting the triangle that contains it into three. Candidates outside the polygon or too close
+// to an edge are drawn again, so no triangle is degenerate; otherwise they are as skinny as chance makes them.
+MeshSoup random_convex_triangulation(std::uint64_t seed, int boundary_count, int interior_count) {
+  Random random(seed);
+  std::vector<double> angles(boundary_count);
+  for (double& a : angles) a = random.uniform(0, 2 * kPi);
+  std::sort(angles.begin(), angles.end());
+  std::vector<Vec2> points;
+  for (double a : angles) points.push_back({std::cos(a), std::sin(a)});
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise
+  for (std::uint32_t i = 1; i + 1 < points.size(); ++i) triangles.push_back({0, i, i + 1});
+
+  constexpr double kMinDoubledArea = 1e-6;
+  while (points.size() < std::size_t(boundary_count + interior_count)) {
+    const Vec2 p = {random.uniform(-1, 1), random.uniform(-1, 1)};
+    for (auto& t : triangles) {
+      const Vec2 &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+      if (cross(sub(b, a), sub(p, a)) > kMinDoubledArea && cross(sub(c, b), sub(p, b)) > kMinDoubledArea &&
+          cross(sub(a, c), sub(p, c)) > kMinDoubledArea) {
+        const auto new_vertex = static_cast<std::uint32_t>(points.size());
+        points.push_back(p);
+        const std::array<std::uint32_t, 3> old = t;
+        t = {old[0], old[1], new_vertex};
+        triangles.push_back({old[1], old[2], new_vertex});
+        triangles.push_back({old[2], old[0], new_vertex});
+        break;
+      }
+    }
+  }
+  MeshSoup soup;
+  for (const Vec2& p : points) push_vertex(soup, {p[0], p[1], 0.0});
+  for (const auto& t : triangles) push_triangle(soup, t[0], t[1], t[2]);
+  return soup;
+}
+
+// The soup moved by a random rotation (from a random unit quaternion) and translation.
+MeshSoup randomly_placed(const MeshSoup& soup, std::uint64_t seed) {
+  Random random(seed);
+  std::array<double, 4> q;
+  double length2;
+  do {
+    for (double& x : q) x = random.uniform(-1, 1);
+    length2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  } while (length2 > 1 || length2 < 0.01);
+  for (double& x : q) x /= std::sqrt(length2);
+  const auto [w, x, y, z] = q;
+  const std::array<Vec3, 3> rotation = {{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                                         {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                                         {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}}};
+  const Vec3 offset = {random.uniform(-5, 5), random.uniform(-5, 5), random.uniform(-5, 5)};
+  MeshSoup moved = soup;
+  for (std::uint32_t v = 0; v < vertex_count(soup); ++v) {
+    const Vec3 p = vertex_position(soup, v);
+    for (int k = 0; k < 3; ++k) moved.positions[3 * v + k] = dot(rotation[k], p) + offset[k];
+  }
+  return moved;
+}
+
+// ---- Flat domains made of unit grid cells ---------------------------------------------------------------
+
+// A union of closed unit squares [i, i+1] x [j, j+1] inside [0, n]^2.
+struct CellDomain {
+  int n = 0;
+  std::vector<std::uint8_t> kept;  // n * n, cell (i, j) at j * n + i
+
+  bool has_cell(int i, int j) const { return i >= 0 && j >= 0 && i < n && j < n && kept[j * n + i]; }
+  // Adjacent cells of grid point (i, j) that belong to the domain.
+  int cells_around(int i, int j) const {
+    return has_cell(i - 1, j - 1) + has_cell(i, j - 1) + has_cell(i - 1, j) + has_cell(i, j);
+  }
+  bool contains(const Vec2& p) const {
+    for (int i = int(std::ceil(p[0])) - 1; i <= int(std::floor(p[0])); ++i)
+      for (int j = int(std::ceil(p[1])) - 1; j <= int(std::floor(p[1])); ++j)
+        if (has_cell(i, j)) return true;
+    return false;
+  }
+  // Whether segment ab lies in the domain: cut at every grid line it crosses, each piece lies in one
+  // closed cell (or on a grid line, between two), so the piece is in the domain iff its midpoint is.
+  bool sees(const Vec2& a, const Vec2& b) const {
+    std::vector<double> cuts = {0.0, 1.0};
+    for (int k = 0; k < 2; ++k) {
+      if (a[k] == b[k]) continue;
+      for (int line = int(std::ceil(std::min(a[k], b[k]))); line <= int(std::floor(std::max(a[k], b[k]))); ++line) {
+        const double t = (line - a[k]) / (b[k] - a[k]);
+        if (t > 0 && t < 1) cuts.push_back(t);
+      }
+    }
+    std::sort(cuts.begin(), cuts.end());
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+      const double t = (cuts[i] + cuts[i + 1]) / 2;
+      if (!contains({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])})) return false;
+    }
+    return true;
+  }
+  // Grid points where the domain turns by 270 degrees: the only places a shortest path bends.
+  std::vector<Vec2> reflex_corners() const {
+    std::vector<Vec2> corners;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+        if (cells_around(i, j) == 3) corners.push_back({double(i), double(j)});
+    return corners;
+  }
+};
+
+CellDomain l_shape() {  // [0,12]^2 without the top-right quarter [6,12]^2
+  CellDomain domain{12, std::vector<std::uint8_t>(144, 1)};
+  for (int j = 6; j < 12; ++j)
+    for (int i = 6; i < 12; ++i) domain.kept[j * 12 + i] = 0;
+  return domain;
+}
+
+CellDomain square_with_hole() {  // [0,12]^2 without the off-centre rectangle [3,7] x [4,9]
+  CellDomain domain{12, std::vector<std::uint8_t>(144, 1)};
+  for (int j = 4; j < 9; ++j)
+    for (int i = 3; i < 7; ++i) domain.kept[j * 12 + i] = 0;
+  return domain;
+}
+
+// Shortest path inside the domain from `from` to each of `targets`: Dijkstra over `from` and the reflex
+// corners joined where they see each other, then the best last corner (or none) that sees the target.
+std::vector<double> visibility_graph_distances(const CellDomain& domain, const Vec2& from,
+                                               const std::vector<Vec2>& targets) {
+  std::vector<Vec2> nodes = domain.reflex_corners();
+  nodes.insert(nodes.begin(), from);
+  std::vector<double> d(nodes.size(), HUGE_VAL);
+  std::vector<std::uint8_t> done(nodes.size(), 0);
+  d[0] = 0;
+  for (std::size_t round = 0; round < nodes.size(); ++round) {
+    std::size_t u = nodes.size();
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      if (!done[i] && (u == nodes.size() || d[i] < d[u])) u = i;
+    done[u] = 1;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      if (!done[i] && domain.sees(nodes[u], nodes[i]))
+        d[i] = std::min(d[i], d[u] + distance(nodes[u], nodes[i]));
+  }
+  std::vector<double> result;
+  for (const Vec2& t : targets) {
+    double best = HUGE_VAL;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      if (d[i] + distance(nodes[i], t) < best && domain.sees(nodes[i], t)) best = d[i] + distance(nodes[i], t);
+    result.push_back(best);
+  }
+  return result;
+}
+
+// The domain triangulated along its grid (alternating diagonals), with every grid point that is interior
+// to the domain moved by up to 0.2 in x and y so that the triangles are irregular. Boundary points stay
+// on the grid, so the domain itself is unchanged. Grid points outside the domain are left out.
+MeshSoup cell_domain_mesh(const CellDomain& domain, std::uint64_t seed) {
+  Random random(seed);
+  const int n = domain.n;
+  std::vector<std::uint32_t> index((n + 1) * (n + 1), exactgeo::kNoSource);
+  MeshSoup soup;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const int around = domain.cells_around(i, j);
+      if (around == 0) continue;
+      Vec3 p = {double(i), double(j), 0.0};
+      if (around == 4) {
+        p[0] += random.uniform(-0.2, 0.2);
+        p[1] += random.uniform(-0.2, 0.2);
+      }
+      index[j * (n + 1) + i] = static_cast<std::uint32_t>(vertex_count(soup));
+      push_vertex(soup, p);
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (!domain.has_cell(i, j)) continue;
+      const std::uint32_t a = index[j * (n + 1) + i], b = index[j * (n + 1) + i + 1],
+                          c = index[(j + 1) * (n + 1) + i + 1], d = index[(j + 1) * (n + 1) + i];
+      if ((i + j) % 2 == 0) {
+        push_triangle(soup, a, b, c);
+        push_triangle(soup, a, c, d);
+      } else {
+        push_triangle(soup, a, b, d);
+        push_triangle(soup, b, c, d);
+      }
+    }
+  return soup;
+}
+
+std::vector<double> visibility_graph_distances(const CellDomain& domain, const MeshSoup& soup, std::uint32_t source) {
+  std::vector<Vec2> targets;
+  for (std::uint32_t v = 0; v < vertex_count(soup); ++v) targets.push_back({soup.positions[3 * v], soup.positions[3 * v + 1]});
+  return visibility_graph_distances(domain, targets[source], targets);
+}
+
+// ---- Convex polyhedra by unfolding ----------------------------------------------------------------------
+
+// A convex polyhedron given by its faces (planar convex polygons, corners in order around each face; faces
+// that share an edge list its two corners with identical coordinates).
+//
+// The geodesic distance between two surface points, by brute force: a shortest path on a convex polyhedron
+// crosses each face at most once, so it runs through a simple sequence of faces; unfolding that sequence
+// into the plane, edge by edge, makes the path straight. Every simple sequence from a face holding one
+// point to a face holding the other is unfolded; where the straight segment between the two unfolded points
+// crosses each shared edge in turn, it is a path on the surface. The shortest of those is the distance.
+class ConvexPolyhedron {
+ public:
+  explicit ConvexPolyhedron(std::vector<std::vector<Vec3>> faces) : faces_(std::move(faces)) {
+    for (std::size_t f = 0; f < faces_.size(); ++f) unfold_from(f);
+  }
+
+  double surface_distance(const Vec3& p, const Vec3& q) const {
+    double best = HUGE_VAL;
+    for (const Unfolding& u : unfoldings_) {
+      if (!on_face(u.faces.front(), p) || !on_face(u.faces.back(), q)) continue;
+      const Vec2 a = u.placements.front().image(p), b = u.placements.back().image(q);
+      if (crosses_every_edge(a, b, u.edges)) best = std::min(best, distance(a, b));
+    }
+    return best;
+  }
+
+ private:
+  // Maps the points of one face rigidly into the plane of the unfolding.
+  struct Placement {
+    Vec3 origin3, u3, v3;  // a point of the face and an orthonormal frame of its plane
+    Vec2 origin2, u2, v2;  // their images
+    Vec2 image(const Vec3& p) const {
+      const Vec3 d = sub(p, origin3);
+      const double a = dot(d, u3), b = dot(d, v3);
+      return {origin2[0] + a * u2[0] + b * v2[0], origin2[1] + a * u2[1] + b * v2[1]};
+    }
+  };
+  struct Unfolding {
+    std::vector<std::size_t> faces;
+    std::vector<Placement> placements;        // one per face
+    std::vector<std::array<Vec2, 2>> edges;  // the images of the shared edges, in order
+  };
+
+  Vec3 centroid(std::size_t f) const {
+    Vec3 c = {0, 0, 0};
+    for (const Vec3& p : faces_[f]) c = add(c, p);
+    return scaled(c, 1.0 / double(faces_[f].size()));
+  }
+  Vec3 normal(std::size_t f) const {
+    const auto& c = faces_[f];
+    return normalized(cross(sub(c[1], c[0]), sub(c[2], c[0])));
+  }
+  bool on_face(std::size_t f, const Vec3& p) const {
+    constexpr double kSlack = 1e-12;
+    const auto& c = faces_[f];
+    const Vec3 n = normal(f);
+    if (std::abs(dot(sub(p, c[0]), n)) > kSlack) return false;
+    for (std::size_t i = 0; i < c.size(); ++i)
+      if (dot(cross(sub(c[(i + 1) % c.size()], c[i]), sub(p, c[i])), n) < -kSlack) return false;
+    return true;
+  }
+  // The edge (two corners) that faces f and g share, if any.
+  std::optional<std::array<Vec3, 2>> shared_edge(std::size_t f, std::size_t g) const {
+    const auto &a = faces_[f], &b = faces_[g];
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < b.size(); ++j) {
+        const Vec3 &p = a[i], &q = a[(i + 1) % a.size()];
+        const Vec3 &r = b[j], &s = b[(j + 1) % b.size()];
+        if ((p == r && q == s) || (p == s && q == r)) return std::array<Vec3, 2>{p, q};
+      }
+    return std::nullopt;
+  }
+
+  void unfold_from(std::size_t first) {
+    const auto& c = faces_[first];
+    const Vec3 u3 = normalized(sub(c[1], c[0]));
+    Unfolding u;
+    u.faces = {first};
+    u.placements = {Placement{c[0], u3, cross(normal(first), u3), {0, 0}, {1, 0}, {0, 1}}};
+    extend(u);
+  }
+
+  void extend(Unfolding& u) {
+    unfoldings_.push_back(u);
+    const std::size_t f = u.faces.back();
+    const Placement& at = u.placements.back();
+    for (std::size_t g = 0; g < faces_.size(); ++g) {
+      if (std::find(u.faces.begin(), u.faces.end(), g) != u.faces.end()) continue;
+      const auto edge = shared_edge(f, g);
+      if (!edge) continue;
+      // g turns about the shared edge into the plane, on the far side of the edge from f.
+      const Vec3 u3 = normalized(sub((*edge)[1], (*edge)[0]));
+      const Vec3 to_centre = sub(centroid(g), (*edge)[0]);
+      const Vec3 v3 = normalized(sub(to_centre, scaled(u3, dot(to_centre, u3))));
+      const Vec2 e0 = at.image((*edge)[0]), e1 = at.image((*edge)[1]);
+      const double length = distance(e0, e1);
+      const Vec2 u2 = {(e1[0] - e0[0]) / length, (e1[1] - e0[1]) / length};
+      Vec2 v2 = {-u2[1], u2[0]};
+      const Vec2 f_centre = sub(at.image(centroid(f)), e0);
+      if (f_centre[0] * v2[0] + f_centre[1] * v2[1] > 0) v2 = {-v2[0], -v2[1]};
+      u.faces.push_back(g);
+      u.placements.push_back(Placement{(*edge)[0], u3, v3, e0, u2, v2});
+      u.edges.push_back({e0, e1});
+      extend(u);
+      u.faces.pop_back();
+      u.placements.pop_back();
+      u.edges.pop_back();
+    }
+  }
+
+  // Whether segment ab crosses each edge, in order along ab.
+  static bool crosses_every_edge(const Vec2& a, const Vec2& b, const std::vector<std::array<Vec2, 2>>& edges) {
+    constexpr double kSlack = 1e-12;
+    const Vec2 d = sub(b, a);
+    double previous = -kSlack;
+    for (const auto& [e0, e1] : edges) {
+      const Vec2 e = sub(e1, e0);
+      const double denominator = cross(d, e);
+      if (std::abs(denominator) < kSlack) return false;
+      const double t = cross(sub(e0, a), e) / denominator;  // along ab
+      const double s = cross(sub(e0, a), d) / denominator;  // along the edge
+      if (t < previous - kSlack || t > 1 + kSlack || s < -kSlack || s > 1 + kSlack) return false;
+      previous = t;
+    }
+    return true;
+  }
+
+  std::vector<std::vector<Vec3>> faces_;
+  std::vector<Unfolding> unfoldings_;
+};
+
+ConvexPolyhedron unit_cube() {
+  std::vector<std::vector<Vec3>> faces;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double side : {0.0, 1.0}) {
+      const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+      constexpr double kSquare[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+      std::vector<Vec3> face;
+      for (const auto& corner : kSquare) {
+        Vec3 p;
+        p[axis] = side;
+        p[b] = corner[0];
+        p[c] = corner[1];
+        face.push_back(p);
+      }
+      faces.push_back(face);
+    }
+  return ConvexPolyhedron(faces);
+}
+
+// The surface of the unit cube, each face an n-by-n grid of squares split along alternating diagonals.
+// Vertices are the lattice points k/n on the surface, each once.
+MeshSoup cube_surface_mesh(int n) {
+  MeshSoup soup;
+  std::map<std::array<int, 3>, std::uint32_t> index;
+  const auto vertex = [&](std::array<int, 3> lattice) {
+    auto [it, inserted] = index.try_emplace(lattice, static_cast<std::uint32_t>(vertex_count(soup)));
+    if (inserted) push_vertex(soup, {double(lattice[0]) / n, double(lattice[1]) / n, double(lattice[2]) / n});
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {0, n}) {
+      const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          std::array<std::array<int, 3>, 4> corner;
+          for (int k = 0; k < 4; ++k) {
+            corner[k][axis] = side;
+            corner[k][b] = i + (k == 1 || k == 2);
+            corner[k][c] = j + (k >= 2);
+          }
+          const std::uint32_t p = vertex(corner[0]), q = vertex(corner[1]), r = vertex(corner[2]), s = vertex(corner[3]);
+          if ((i + j) % 2 == 0) {
+            push_triangle(soup, p, q, r);
+            push_triangle(soup, p, r, s);
+          } else {
+            push_triangle(soup, p, q, s);
+            push_triangle(soup, q, r, s);
+          }
+        }
+    }
+  return soup;
+}
+
+const std::array<Vec3, 4> kTetrahedronCorners = {{{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}}};
+const std::array<std::array<std::uint32_t, 3>, 4> kTetrahedronFaces = {{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}}};
+const double kTetrahedronEdge = 2 * std::numbers::sqrt2;
+
+MeshSoup tetrahedron_mesh() {
+  MeshSoup soup;
+  for (const Vec3& p : kTetrahedronCorners) push_vertex(soup, p);
+  for (const auto& f : kTetrahedronFaces) push_triangle(soup, f[0], f[1], f[2]);
+  return soup;
+}
+
+ConvexPolyhedron tetrahedron() {
+  std::vector<std::vector<Vec3>> faces;
+  for (const auto& f : kTetrahedronFaces)
+    faces.push_back({kTetrahedronCorners[f[0]], kTetrahedronCorners[f[1]], kTetrahedronCorners[f[2]]});
+  return ConvexPolyhedron(faces);
+}
+
+// ---- A cone with a saddle apex --------------------------------------------------------------------------
+
+// `rays` planar sectors around an apex whose angles add up to `total_angle` > 2*pi, cut by rings at radii
+// 1..rings into a triangle mesh. In 3D the rays zigzag up and down so that consecutive rays meet at the
+// sector angle; each sector is planar, so intrinsically the surface is a flat cone of the given total angle.
+// Vertex 0 is the apex; ring k (1-based) on ray i is vertex 1 + (k - 1) * rays + i.
+struct SaddleCone {
+  int rays = 20;
+  int rings = 4;
+  double total_angle = 2.5 * kPi;
+
+  double sector_angle() const { return total_angle / rays; }
+
+  MeshSoup mesh() const {
+    // Rays at azimuth 2*pi*i/rays and elevation +-beta meet at sector_angle when
+    // cos(sector) = cos^2(beta) cos(step) - sin^2(beta).
+    const double step = 2 * kPi / rays;
+    const double beta = std::asin(std::sqrt((std::cos(step) - std::cos(sector_angle())) / (1 + std::cos(step))));
+    MeshSoup soup;
+    push_vertex(soup, {0, 0, 0});
+    for (int k = 1; k <= rings; ++k)
+      for (int i = 0; i < rays; ++i) {
+        const double elevation = i % 2 == 0 ? beta : -beta;
+        push_vertex(soup, {k * std::cos(elevation) * std::cos(step * i), k * std::cos(elevation) * std::sin(step * i),
+                           k * std::sin(elevation)});
+      }
+    for (int i = 0; i < rays; ++i) {
+      const int next = (i + 1) % rays;
+      push_triangle(soup, 0, vertex(1, i), vertex(1, next));
+      for (int k = 1; k < rings; ++k) {
+        if ((i + k) % 2 == 0) {
+          push_triangle(soup, vertex(k, i), vertex(k + 1, i), vertex(k + 1, next));
+          push_triangle(soup, vertex(k, i), vertex(k + 1, next), vertex(k, next));
+        } else {
+          push_triangle(soup, vertex(k, i), vertex(k + 1, i), vertex(k, next));
+          push_triangle(soup, vertex(k + 1, i), vertex(k + 1, next), vertex(k, next));
+        }
+      }
+    }
+    return soup;
+  }
+
+  std::uint32_t vertex(int ring, int ray) const { return static_cast<std::uint32_t>(1 + (ring - 1) * rays + ray); }
+
+  // Intrinsic distance between two vertices: unroll the cone around the apex. Within an angle below pi the
+  // straight segment stays on the surface; at pi or more the shortest path runs through the apex.
+  double distance(std::uint32_t a, std::uint32_t b) const {
+    const auto radius = [&](std::uint32_t v) { return v == 0 ? 0.0 : double((v - 1) / rays + 1); };
+    const auto ray = [&](std::uint32_t v) { return v == 0 ? 0 : int((v - 1) % rays); };
+    const int apart = std::abs(ray(a) - ray(b));
+    const double angle = std::min(apart, rays - apart) * sector_angle();
+    const double ra = radius(a), rb = radius(b);
+    if (angle >= kPi) return ra + rb;
+    return std::hypot(ra - rb * std::cos(angle), rb * std::sin(angle));
+  }
+};
+
+// ---- The tests ------------------------------------------------------------------------------------------
+
+class AnalyticDistance : public testing::TestWithParam<exactgeo::GeodesicOptions> {
+ protected:
+  std::vector<double> distances(const MeshSoup& soup, std::uint32_t source) const {
+    return exactgeo::geodesic_distance(exactgeo::Mesh(soup), source, GetParam()).distances;
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(Analytic, AnalyticDistance, testing::ValuesIn(exactgeo_test::kAllRuleCombinations),
+                         exactgeo_test::rule_combination_name);
+
+// The references check themselves against values worked out by hand.
+TEST(AnalyticReference, VisibilityGraphHandValues) {
+  const CellDomain l = l_shape();
+  const auto from_corner = visibility_graph_distances(l, {12, 6}, {{6, 12}, {0, 0}, {6, 6}});
+  EXPECT_DOUBLE_EQ(from_corner[0], 12.0);  // around the reflex corner (6,6)
+  EXPECT_DOUBLE_EQ(from_corner[1], std::hypot(12.0, 6.0));
+  EXPECT_DOUBLE_EQ(from_corner[2], 6.0);
+  EXPECT_DOUBLE_EQ(visibility_graph_distances(l, {12, 5}, {{5, 12}})[0], 2 * std::sqrt(37.0));
+  EXPECT_DOUBLE_EQ(visibility_graph_distances(l, {12, 0}, {{0, 12}})[0], 12 * std::numbers::sqrt2);  // grazes (6,6)
+
+  // Around the hole [3,7] x [4,9], past two of its corners on either side.
+  const auto across = visibility_graph_distances(square_with_hole(), {5, 0}, {{5, 12}, {5, 4}, {0, 12}, {12, 12}});
+  EXPECT_DOUBLE_EQ(across[0], std::sqrt(20.0) + 5 + std::sqrt(13.0));
+  EXPECT_DOUBLE_EQ(across[1], 4.0);
+  EXPECT_DOUBLE_EQ(across[2], std::sqrt(20.0) + std::sqrt(73.0));  // the straight line would cut the hole
+  EXPECT_DOUBLE_EQ(across[3], std::hypot(7.0, 12.0));               // passes right of the hole
+}
+
+TEST(AnalyticReference, UnfoldingHandValues) {
+  const ConvexPolyhedron cube = unit_cube();
+  EXPECT_DOUBLE_EQ(cube.surface_distance({0, 0, 0}, {1, 1, 1}), std::sqrt(5.0));
+  EXPECT_DOUBLE_EQ(cube.surface_distance({0, 0, 0}, {1, 0.5, 0.5}), std::sqrt(2.5));
+  EXPECT_DOUBLE_EQ(cube.surface_distance({0, 0, 0}, {0.5, 0.5, 0}), std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(cube.surface_distance({0.5, 0.5, 0}, {0.5, 0.5, 1}), 2.0);
+  EXPECT_DOUBLE_EQ(cube.surface_distance({0.5, 0.5, 0}, {1, 0.5, 0.5}), 1.0);
+  EXPECT_DOUBLE_EQ(cube.surface_distance({0.5, 0.5, 0}, {1, 1, 1}), std::sqrt(2.5));
+
+  // Regular tetrahedron, edge a = 2*sqrt(2): a vertex to another, to the midpoint of the opposite edge
+  // v1v2 (the height of face v0v1v2, a*sqrt(3)/2), and to the point 1/4 v1 + 1/4 v2 + 1/2 v3 of the opposite face: unfolded
+  // across edge v1v3 it sits at (a/8, 5h/4) from v0's foot, h = a*sqrt(3)/2, so at a*sqrt(19)/4.
+  const ConvexPolyhedron tetra = tetrahedron();
+  const double a = kTetrahedronEdge;
+  EXPECT_DOUBLE_EQ(tetra.surface_distance(kTetrahedronCorners[0], kTetrahedronCorners[2]), a);
+  EXPECT_DOUBLE_EQ(tetra.surface_distance(kTetrahedronCorners[0], {0, 0, -1}), a * std::sqrt(3.0) / 2);
+  EXPECT_DOUBLE_EQ(tetra.surface_distance(kTetrahedronCorners[0], {-0.5, -0.5, 0}), a * std::sqrt(19.0) / 4);
+}
+
+TEST_P(AnalyticDistance, FlatConvexRandomTriangulation) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const MeshSoup soup = random_convex_triangulation(seed, 40, 400);
+    // Vertex 0 is on the boundary, vertex 40 is the first interior point.
+    for (std::uint32_t source : {0u, 40u, 41u}) {
+      SCOPED_TRACE(testing::Message() << "seed " << seed << ", source " << source);
+      EXPECT_TRUE(distances_match(distances(soup, source), expected_distances(soup, source, euclidean), kExact));
+    }
+  }
+}
+
+TEST_P(AnalyticDistance, FlatConvexInARandomPlane) {
+  for (std::uint64_t seed : {4, 5}) {
+    const MeshSoup soup = randomly_placed(random_convex_triangulation(seed, 30, 300), seed);
+    for (std::uint32_t source : {0u, 30u}) {
+      SCOPED_TRACE(testing::Message() << "seed " << seed << ", source " << source);
+      EXPECT_TRUE(distances_match(distances(soup, source), expected_distances(soup, source, euclidean), kExact));
+    }
+  }
+}
+
+TEST_P(AnalyticDistance, FlatLShape) {
+  const CellDomain domain = l_shape();
+  const MeshSoup soup = cell_domain_mesh(domain, 7);
+  // The outer corner, the reflex corner itself, the tip of each arm, and a jittered interior vertex.
+  const std::vector<std::uint32_t> sources = {vertex_at(soup, {0, 0, 0}), vertex_at(soup, {6, 6, 0}),
+                                              vertex_at(soup, {12, 3, 0}), vertex_at(soup, {2, 12, 0}),
+                                              exactgeo_test::random_source_vertex(soup, 3)};
+  for (std::uint32_t source : sources) {
+    SCOPED_TRACE(testing::Message() << "source " << source);
+    EXPECT_TRUE(distances_match(distances(soup, source), visibility_graph_distances(domain, soup, source), kExact));
+  }
+}
+
+TEST_P(AnalyticDistance, FlatSquareWithAHole) {
+  const CellDomain domain = square_with_hole();
+  const MeshSoup soup = cell_domain_mesh(domain, 8);
+  // Below the hole, on its rim, at an outer corner, and a jittered interior vertex.
+  const std::vector<std::uint32_t> sources = {vertex_at(soup, {5, 0, 0}), vertex_at(soup, {7, 6, 0}),
+                                              vertex_at(soup, {12, 12, 0}),
+                                              exactgeo_test::random_source_vertex(soup, 4)};
+  for (std::uint32_t source : sources) {
+    SCOPED_TRACE(testing::Message() << "source " << source);
+    EXPECT_TRUE(distances_match(distances(soup, source), visibility_graph_distances(domain, soup, source), kExact));
+  }
+}
+
+TEST_P(AnalyticDistance, CubeSurface) {
+  const MeshSoup soup = cube_surface_mesh(6);
+  ASSERT_EQ(vertex_count(soup), 6u * 36 + 2);
+  const ConvexPolyhedron cube = unit_cube();
+  const auto on_cube = [&](const Vec3& p, const Vec3& q) { return cube.surface_distance(p, q); };
+  for (const Vec3& source_position : {Vec3{0, 0, 0}, Vec3{0.5, 0.5, 0}, Vec3{1, 0.5, 1. / 3}}) {
+    const std::uint32_t source = vertex_at(soup, source_position);
+    SCOPED_TRACE(testing::Message() << "source " << source);
+    const std::vector<double> d = distances(soup, source);
+    EXPECT_TRUE(distances_match(d, expected_distances(soup, source, on_cube), kExact));
+    if (source_position == Vec3{0, 0, 0}) {
+      // Cycling the coordinates maps the lattice onto itself and fixes the corner: equal distances.
+      for (std::uint32_t v = 0; v < vertex_count(soup); ++v) {
+        const Vec3 p = vertex_position(soup, v);
+        EXPECT_NEAR(d[v], d[vertex_at(soup, {p[1], p[2], p[0]})], 1e-15 * 3) << "vertex " << v;
+      }
+    }
+  }
+}
+
+TEST_P(AnalyticDistance, RegularTetrahedron) {
+  const MeshSoup soup = tetrahedron_mesh();
+  for (std::uint32_t source = 0; source < 4; ++source) {
+    const std::vector<double> d = distances(soup, source);
+    for (std::uint32_t v = 0; v < 4; ++v) EXPECT_NEAR(d[v], v == source ? 0.0 : kTetrahedronEdge, kExact);
+  }
+}
+
+TEST_P(AnalyticDistance, SubdividedTetrahedron) {
+  const ConvexPolyhedron tetra = tetrahedron();
+  const auto on_tetrahedron = [&](const Vec3& p, const Vec3& q) { return tetra.surface_distance(p, q); };
+  MeshSoup soup = tetrahedron_mesh();
+  for (int level = 1; level <= 3; ++level) {
+    soup = exactgeo::subdivide_midpoint(soup);
+    SCOPED_TRACE(testing::Message() << "subdivided " << level << " times");
+    const std::vector<double> d = distances(soup, 0);
+    const double a = kTetrahedronEdge;
+    EXPECT_NEAR(d[1], a, a * kExact);
+    EXPECT_NEAR(d[vertex_at(soup, {1, 0, 0})], a / 2, a * kExact);                  // midpoint of edge v0v1
+    EXPECT_NEAR(d[vertex_at(soup, {0, 0, -1})], a * std::sqrt(3.0) / 2, a * kExact);  // of edge v1v2
+    if (level >= 2) EXPECT_NEAR(d[vertex_at(soup, {-0.5, -0.5, 0})], a * std::sqrt(19.0) / 4, a * kExact);
+    EXPECT_TRUE(distances_match(d, expected_distances(soup, 0, on_tetrahedron), kExact));
+  }
+  // A source on the opposite face, away from any vertex of the original tetrahedron.
+  const std::uint32_t source = vertex_at(soup, {-0.5, -0.5, 0});
+  EXPECT_TRUE(distances_match(distances(soup, source), expected_distances(soup, source, on_tetrahedron), kExact));
+}
+
+TEST_P(AnalyticDistance, SaddleConeBendsPathsAtTheApex) {
+  const SaddleCone cone;
+  const MeshSoup soup = cone.mesh();
+  // A source on ring 2: the rays more than pi away around the apex are in its shadow.
+  for (std::uint32_t source : {cone.vertex(2, 0), cone.vertex(4, 3), 0u}) {
+    SCOPED_TRACE(testing::Message() << "source " << source);
+    const std::vector<double> d = distances(soup, source);
+    std::vector<double> expected(vertex_count(soup));
+    for (std::uint32_t v = 0; v < expected.size(); ++v) expected[v] = cone.distance(source, v);
+    EXPECT_TRUE(distances_match(d, expected, kExact));
+  }
+  // The shadow exists and its paths go through the apex: d = d(apex) + |apex - point|.
+  const std::uint32_t source = cone.vertex(2, 0);
+  const std::vector<double> d = distances(soup, source);
+  for (int ray : {9, 10, 11})
+    for (int ring = 1; ring <= cone.rings; ++ring) {
+      const std::uint32_t v = cone.vertex(ring, ray);
+      EXPECT_NEAR(d[v], d[0] + exactgeo_test::distance_between(soup, 0, v), 1e-12 * 8) << "vertex " << v;
+    }
+}
+
+// Vertices at exactly equal distances must all come out, and equal (ENGINE-NOTES, "Ties").
+TEST_P(AnalyticDistance, ExactTiesOnASymmetricGrid) {
+  constexpr int n = 16;  // a power of two: grid coordinates are exact integers
+  const MeshSoup soup = exactgeo::make_grid(n, n, n, n);
+  const auto index = [&](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  const std::uint32_t centre = index(n / 2, n / 2);
+  ASSERT_EQ(vertex_position(soup, centre), (Vec3{n / 2.0, n / 2.0, 0}));
+  const std::vector<double> d = distances(soup, centre);
+  EXPECT_TRUE(distances_match(d, expected_distances(soup, centre, euclidean), kExact));
+  // The alternating diagonals make the mesh symmetric under the square's eight symmetries about the centre.
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double here = d[index(i, j)];
+      ASSERT_TRUE(std::isfinite(here));
+      for (std::uint32_t partner : {index(n - i, j), index(i, n - j), index(j, i), index(n - j, n - i)})
+        EXPECT_NEAR(here, d[partner], 1e-15 * n) << "(" << i << ", " << j << ")";
+    }
+}
+
+TEST_P(AnalyticDistance, ExactTiesOnAnIcosphere) {
+  const MeshSoup soup = exactgeo::make_icosphere(3);
+  const std::vector<double> d = distances(soup, 0);
+  // A turn by 2*pi/5 about the axis through vertex 0 maps the icosphere onto itself.
+  const Vec3 axis = vertex_position(soup, 0);
+  const double c = std::cos(2 * kPi / 5), s = std::sin(2 * kPi / 5);
+  for (std::uint32_t v = 0; v < vertex_count(soup); ++v) {
+    ASSERT_TRUE(std::isfinite(d[v]));
+    const Vec3 p = vertex_position(soup, v);
+    const Vec3 turned = add(add(scaled(p, c), scaled(cross(axis, p), s)), scaled(axis, dot(axis, p) * (1 - c)));
+    std::uint32_t partner = 0;
+    for (std::uint32_t w = 1; w < vertex_count(soup); ++w)
+      if (distance(vertex_position(soup, w), turned) < distance(vertex_position(soup, partner), turned)) partner = w;
+    ASSERT_LT(distance(vertex_position(soup, partner), turned), 1e-9);
+    EXPECT_NEAR(d[v], d[partner], 1e-14) << "vertex " << v << " and its turned partner " << partner;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,378 @@
+// The exactgeo command end to end: exit codes, messages, output formats, and distances on meshes whose
+// answer is known in closed form.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "exactgeo/shapes.hpp"
+#include "exactgeo/version.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+void write_file(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+std::vector<double> parse_txt(const fs::path& path) {
+  std::vector<double> values;
+  std::istringstream lines(read_file(path));
+  for (std::string line; std::getline(lines, line);) values.push_back(std::strtod(line.c_str(), nullptr));
+  return values;
+}
+
+// Checks the "vertex,distance" header and that rows come in vertex order.
+std::vector<double> parse_csv(const fs::path& path) {
+  std::vector<double> values;
+  std::istringstream lines(read_file(path));
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "vertex,distance");
+  while (std::getline(lines, line)) {
+    const std::size_t comma = line.find(',');
+    EXPECT_NE(comma, std::string::npos) << line;
+    EXPECT_EQ(line.substr(0, comma), std::to_string(values.size()));
+    values.push_back(std::strtod(line.c_str() + comma + 1, nullptr));
+  }
+  return values;
+}
+
+// Validates the NumPy v1.0 header of a 1-D little-endian float64 array and returns its values.
+std::vector<double> parse_npy(const fs::path& path) {
+  const std::string bytes = read_file(path);
+  if (bytes.size() < 10) {
+    ADD_FAILURE() << "npy file too short";
+    return {};
+  }
+  EXPECT_EQ(bytes.substr(0, 6), "\x93NUMPY");
+  EXPECT_EQ(bytes[6], 1);  // format version 1.0
+  EXPECT_EQ(bytes[7], 0);
+  const std::size_t header_length = std::uint8_t(bytes[8]) | std::size_t(std::uint8_t(bytes[9])) << 8;
+  const std::size_t data_offset = 10 + header_length;
+  EXPECT_EQ(data_offset % 16, 0u) << "the format requires the data to be aligned";
+  const std::string header = bytes.substr(10, header_length);
+  EXPECT_EQ(header.back(), '\n');
+  EXPECT_NE(header.find("'descr': '<f8'"), std::string::npos) << header;
+  EXPECT_NE(header.find("'fortran_order': False"), std::string::npos) << header;
+  const std::size_t shape = header.find("'shape': (");
+  EXPECT_NE(shape, std::string::npos) << header;
+  const std::size_t count = std::strtoull(header.c_str() + shape + 10, nullptr, 10);
+  EXPECT_NE(header.find("'shape': (" + std::to_string(count) + ",)"), std::string::npos) << header;
+  EXPECT_EQ(bytes.size(), data_offset + count * 8);
+
+  std::vector<double> values(count);
+  for (std::size_t i = 0; i < count && data_offset + i * 8 + 8 <= bytes.size(); ++i) {
+    std::uint64_t bits = 0;
+    for (std::size_t byte = 0; byte < 8; ++byte) {
+      bits |= std::uint64_t(std::uint8_t(bytes[data_offset + i * 8 + byte])) << (8 * byte);
+    }
+    values[i] = std::bit_cast<double>(bits);
+  }
+  return values;
+}
+
+void expect_bitwise_equal(const std::vector<double>& a, const std::vector<double>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a[i]), std::bit_cast<std::uint64_t>(b[i])) << "vertex " << i;
+  }
+}
+
+// Each test gets its own scratch directory, removed afterwards.
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("exactgeo_cli_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  // Runs `exactgeo ARGUMENTS` through the shell; ARGUMENTS must already be quoted where needed.
+  RunResult run(const std::string& arguments) const {
+    const fs::path out = path("stdout"), err = path("stderr");
+    const std::string command =
+        "'" EXACTGEO_CLI_PATH "' " + arguments + " >'" + out.string() + "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    RunResult result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    result.out = read_file(out);
+    result.err = read_file(err);
+    return result;
+  }
+
+  // Quoted path of a scratch file, for use in arguments.
+  std::string arg(const std::string& name) const { return "'" + path(name).string() + "'"; }
+
+  // An error: the given exit code, nothing on stdout, one "exactgeo: " message on stderr naming `expected`.
+  static void expect_error(const RunResult& result, int exit_code, const std::string& expected) {
+    EXPECT_EQ(result.exit_code, exit_code) << result.err;
+    EXPECT_EQ(result.out, "");
+    EXPECT_EQ(result.err.rfind("exactgeo: ", 0), 0u) << result.err;
+    EXPECT_NE(result.err.find(expected), std::string::npos) << result.err;
+    EXPECT_LE(std::count(result.err.begin(), result.err.end(), '\n'), 2) << result.err;
+  }
+
+ private:
+  fs::path dir_;
+};
+
+TEST_F(Cli, DistanceOnIcospherePrintsSummary) {
+  const RunResult result = run("distance @icosphere:2 --source 0");
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.err, "");
+  for (const char* expected : {"@icosphere:2", "vertices", "162", "faces", "320", "max distance", "unreachable",
+                               "window propagations", "peak windows", "propagation"}) {
+    EXPECT_NE(result.out.find(expected), std::string::npos) << expected << " missing from:\n" << result.out;
+  }
+}
+
+TEST_F(Cli, OutputFormatsAgree) {
+  for (const char* name : {"d.txt", "d.csv", "d.npy"}) {
+    const RunResult result = run("distance @icosphere:2 --source 3 --out " + arg(name));
+    ASSERT_EQ(result.exit_code, 0) << name << ": " << result.err;
+    EXPECT_EQ(result.out, "") << "no summary when writing a file";
+  }
+  const std::vector<double> txt = parse_txt(path("d.txt"));
+  const std::vector<double> csv = parse_csv(path("d.csv"));
+  const std::vector<double> npy = parse_npy(path("d.npy"));
+  ASSERT_EQ(txt.size(), 162u);
+  expect_bitwise_equal(txt, csv);
+  expect_bitwise_equal(txt, npy);
+
+  // A closed surface: every distance is finite and at least the straight-line chord.
+  const exactgeo::MeshSoup sphere = exactgeo::make_icosphere(2);
+  EXPECT_EQ(txt[3], 0.0);
+  for (std::size_t v = 0; v < txt.size(); ++v) {
+    double chord_squared = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      chord_squared += std::pow(sphere.positions[v * 3 + axis] - sphere.positions[3 * 3 + axis], 2);
+    }
+    EXPECT_TRUE(std::isfinite(txt[v])) << "vertex " << v;
+    EXPECT_GE(txt[v] * (1 + 1e-12), std::sqrt(chord_squared)) << "vertex " << v;
+  }
+}
+
+TEST_F(Cli, TxtRoundTripsEveryDouble) {
+  // %.17g must give back the exact doubles the .npy holds, also on a mesh with irrational distances.
+  ASSERT_EQ(run("distance @torus:12:8 --source 5 --out " + arg("d.txt")).exit_code, 0);
+  ASSERT_EQ(run("distance @torus:12:8 --source 5 --out " + arg("d.npy")).exit_code, 0);
+  expect_bitwise_equal(parse_txt(path("d.txt")), parse_npy(path("d.npy")));
+}
+
+TEST_F(Cli, FlatGridDistancesAreEuclidean) {
+  // @grid:8:8 is documented as 8 x 8 unit squares, vertex j*9+i at (i, j, 0). Check that layout against
+  // the generator, then that every distance is the straight-line distance (a flat convex domain).
+  constexpr int kSide = 8, kColumns = kSide + 1;
+  const exactgeo::MeshSoup grid = exactgeo::make_grid(kSide, kSide, kSide, kSide);
+  ASSERT_EQ(grid.positions.size(), std::size_t(kColumns * kColumns * 3));
+  for (int v = 0; v < kColumns * kColumns; ++v) {
+    ASSERT_EQ(grid.positions[v * 3], v % kColumns);
+    ASSERT_EQ(grid.positions[v * 3 + 1], v / kColumns);
+  }
+
+  struct Case {
+    std::string sources;
+    std::vector<int> source_vertices;
+  };
+  for (const Case& c : {Case{"--source 0", {0}}, Case{"--source 40", {40}}, Case{"--source 0 --source 80", {0, 80}},
+                        Case{"--source 7 --source 65 --source 33", {7, 65, 33}}}) {
+    const RunResult result = run("distance @grid:8:8 " + c.sources + " --out " + arg("d.txt"));
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const std::vector<double> distances = parse_txt(path("d.txt"));
+    ASSERT_EQ(distances.size(), std::size_t(kColumns * kColumns));
+    for (int v = 0; v < kColumns * kColumns; ++v) {
+      double expected = kInf;
+      for (int s : c.source_vertices) {
+        expected = std::min(expected, std::hypot(v % kColumns - s % kColumns, v / kColumns - s / kColumns));
+      }
+      EXPECT_NEAR(distances[v], expected, 1e-12 * std::max(1.0, expected)) << c.sources << ", vertex " << v;
+    }
+  }
+}
+
+TEST_F(Cli, StatsJsonHasRequiredKeys) {
+  const RunResult result =
+      run("distance @icosphere:2 --source 0 --source 7 --stats " + arg("s.json") + " --out " + arg("d.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(path("s.json")));
+  for (const char* key : {"vertices", "faces", "source", "algorithm", "build_seconds", "propagation_seconds",
+                          "window_propagations", "peak_windows", "peak_window_bytes", "vertex_pops", "max_distance",
+                          "unreachable", "mesh_report"}) {
+    EXPECT_TRUE(stats.contains(key)) << key;
+  }
+  EXPECT_EQ(stats["vertices"], 162);
+  EXPECT_EQ(stats["faces"], 320);
+  EXPECT_EQ(stats["source"], nlohmann::json::array({0, 7}));
+  EXPECT_EQ(stats["algorithm"], "vtp");
+  EXPECT_EQ(stats["unreachable"], 0);
+  EXPECT_GE(stats["build_seconds"].get<double>(), 0.0);
+  EXPECT_GE(stats["propagation_seconds"].get<double>(), 0.0);
+  EXPECT_GT(stats["window_propagations"].get<std::uint64_t>(), 0u);
+  EXPECT_GT(stats["peak_windows"].get<std::uint64_t>(), 0u);
+  EXPECT_GT(stats["peak_window_bytes"].get<std::uint64_t>(), 0u);
+
+  const std::vector<double> distances = parse_txt(path("d.txt"));
+  EXPECT_EQ(stats["max_distance"].get<double>(), *std::max_element(distances.begin(), distances.end()));
+  EXPECT_EQ(stats["mesh_report"]["vertices"], 162);
+  EXPECT_EQ(stats["mesh_report"]["boundary_edges"], 0);
+}
+
+// Two triangles that share an edge only through duplicated positions, plus a vertex used by no face.
+constexpr const char* kSeamObj =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+    "v 1 0 0\nv 0 1 0\nv 1 1 0\n"
+    "v 5 5 5\n"
+    "f 1 2 3\nf 4 6 5\n";
+
+TEST_F(Cli, UnreachableVerticesAreInfInEveryFormat) {
+  write_file(path("seam.obj"), kSeamObj);
+  for (const char* name : {"d.txt", "d.csv", "d.npy"}) {
+    ASSERT_EQ(run("distance " + arg("seam.obj") + " --source 0 --out " + arg(name)).exit_code, 0) << name;
+  }
+  const std::vector<double> expected = {0, 1, 1, kInf, kInf, kInf, kInf};
+  expect_bitwise_equal(parse_txt(path("d.txt")), expected);
+  expect_bitwise_equal(parse_csv(path("d.csv")), expected);
+  expect_bitwise_equal(parse_npy(path("d.npy")), expected);
+  EXPECT_NE(read_file(path("d.txt")).find("\ninf\n"), std::string::npos);
+  EXPECT_NE(read_file(path("d.csv")).find("\n3,inf\n"), std::string::npos);
+
+  const RunResult summary = run("distance " + arg("seam.obj") + " --source 0 --stats " + arg("s.json"));
+  ASSERT_EQ(summary.exit_code, 0) << summary.err;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(path("s.json")));
+  EXPECT_EQ(stats["unreachable"], 4);
+  EXPECT_EQ(stats["max_distance"], 1.0);
+}
+
+TEST_F(Cli, WeldJoinsTheSeam) {
+  write_file(path("seam.obj"), kSeamObj);
+  ASSERT_EQ(run("distance " + arg("seam.obj") + " --source 0 --weld --out " + arg("d.txt")).exit_code, 0);
+  const std::vector<double> distances = parse_txt(path("d.txt"));
+  const std::vector<double> expected = {0, 1, 1, 1, 1, std::sqrt(2.0), kInf};
+  ASSERT_EQ(distances.size(), expected.size());
+  for (std::size_t v = 0; v + 1 < expected.size(); ++v) EXPECT_NEAR(distances[v], expected[v], 1e-15) << v;
+  EXPECT_EQ(distances.back(), kInf) << "the unused vertex stays unreachable";
+
+  const RunResult plain = run("info " + arg("seam.obj") + " --json");
+  const RunResult welded = run("info " + arg("seam.obj") + " --json --weld");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(welded.exit_code, 0) << welded.err;
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["welded_vertices"], 0);
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["components"], 2);
+  EXPECT_GT(nlohmann::json::parse(welded.out)["welded_vertices"].get<int>(), 0);
+  EXPECT_EQ(nlohmann::json::parse(welded.out)["components"], 1);
+}
+
+constexpr const char* kReportKeys[] = {
+    "vertices",           "faces",           "faces_used",          "faces_repeating_a_vertex",
+    "degenerate_faces",   "zero_length_edges", "unreferenced_vertices", "duplicate_positions",
+    "welded_vertices",    "boundary_edges",  "non_manifold_edges",  "non_manifold_vertices",
+    "surface_vertices",   "components",      "saddle_vertices"};
+
+TEST_F(Cli, InfoJsonHasEveryReportField) {
+  const RunResult result = run("info @torus --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json info = nlohmann::json::parse(result.out);
+  for (const char* key : kReportKeys) EXPECT_TRUE(info.contains(key)) << key;
+  EXPECT_EQ(info["mesh"], "@torus");
+  // The demo torus: 64 x 36 segments, closed, one piece, saddles between the bumps.
+  EXPECT_EQ(info["vertices"], 64 * 36);
+  EXPECT_EQ(info["faces"], 2 * 64 * 36);
+  EXPECT_EQ(info["boundary_edges"], 0);
+  EXPECT_EQ(info["components"], 1);
+  EXPECT_GT(info["saddle_vertices"].get<int>(), 0);
+}
+
+TEST_F(Cli, InfoTextListsEveryReportField) {
+  const RunResult result = run("info @grid:3:2");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const char* key : kReportKeys) {
+    EXPECT_NE(result.out.find(std::string("\n") + key + " "), std::string::npos) << key;
+  }
+}
+
+TEST_F(Cli, VersionPrintsTheLibraryVersion) {
+  const RunResult result = run("--version");
+  EXPECT_EQ(result.exit_code, 0);
+  EXPECT_NE(result.out.find(exactgeo::kVersion), std::string::npos) << result.out;
+}
+
+TEST_F(Cli, HelpExitsZero) {
+  const RunResult result = run("distance --help");
+  EXPECT_EQ(result.exit_code, 0);
+  EXPECT_NE(result.out.find("@icosphere:K"), std::string::npos) << result.out;
+}
+
+TEST_F(Cli, MissingFileIsInvalidInput) {
+  expect_error(run("distance " + arg("no-such-mesh.obj") + " --source 0"), 2, "no-such-mesh.obj");
+  expect_error(run("info " + arg("no-such-mesh.ply")), 2, "no-such-mesh.ply");
+}
+
+TEST_F(Cli, MalformedObjIsInvalidInput) {
+  write_file(path("bad-index.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  expect_error(run("distance " + arg("bad-index.obj") + " --source 0"), 2, "bad-index.obj");
+  write_file(path("bad-number.obj"), "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
+  expect_error(run("info " + arg("bad-number.obj")), 2, "bad-number.obj");
+}
+
+TEST_F(Cli, SourceOutOfRangeIsInvalidInput) {
+  expect_error(run("distance @icosphere:1 --source 42"), 2, "42");
+  expect_error(run("distance @icosphere:1 --source 99999999999"), 2, "99999999999");
+}
+
+TEST_F(Cli, BuiltinParameterOutOfRangeIsInvalidInput) {
+  expect_error(run("info @grid:0:4"), 2, "grid");
+}
+
+TEST_F(Cli, UsageErrors) {
+  expect_error(run("distance @icosphere:1 --source 0 --frobnicate"), 1, "--frobnicate");
+  expect_error(run("distance @icosphere:1"), 1, "--source");
+  expect_error(run("distance @icosphere:1 --source -1"), 1, "-1");
+  expect_error(run("distance @icosphere:1 --source abc"), 1, "abc");
+  expect_error(run("distance @cube --source 0"), 1, "@cube");
+  expect_error(run("frobnicate"), 1, "frobnicate");
+  expect_error(run(""), 1, "subcommand");
+}
+
+TEST_F(Cli, BadOutputExtensionIsUsageError) {
+  expect_error(run("distance @icosphere:1 --source 0 --out " + arg("d.xyz")), 1, "d.xyz");
+  expect_error(run("distance @icosphere:1 --source 0 --out " + arg("no-extension")), 1, "no-extension");
+  EXPECT_FALSE(fs::exists(path("d.xyz")));
+}
+
+TEST_F(Cli, UnwritableOutputIsInvalidInput) {
+  expect_error(run("distance @icosphere:1 --source 0 --out " + arg("missing-dir/d.txt")), 2, "missing-dir/d.txt");
+}
+
+}  // namespace
