@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -72,6 +73,19 @@ bool parse_integer(std::string_view token, std::int64_t& value) {
 std::size_t plausible_count(std::uint64_t count, std::size_t bytes_left, std::size_t min_bytes_per_item) {
   const std::uint64_t room = bytes_left / std::max<std::size_t>(min_bytes_per_item, 1);
   return static_cast<std::size_t>(std::min(count, room));
+}
+
+std::string too_few_corners(std::size_t corners) {
+  return "face with " + std::to_string(corners) + " vertices (a face needs at least 3)";
+}
+
+std::string index_out_of_range(std::int64_t index, std::uint64_t vertex_count) {
+  return "vertex index " + std::to_string(index) + " out of range (file has " + std::to_string(vertex_count) +
+         " vertices)";
+}
+
+std::string too_many_vertices(std::uint64_t vertex_count) {
+  return std::to_string(vertex_count) + " vertices exceed the range of 32-bit indices";
 }
 
 void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles) {
@@ -144,6 +158,14 @@ std::int64_t TextCursor::read_integer(std::string_view what) {
   std::int64_t value = 0;
   if (!parse_integer(token, value)) fail("malformed integer " + quoted(token) + " for " + std::string(what));
   return value;
+}
+
+std::array<double, 3> TextCursor::read_position() {
+  const std::array<double, 3> position = {read_double("vertex x"), read_double("vertex y"), read_double("vertex z")};
+  for (double coordinate : position) {
+    if (!std::isfinite(coordinate)) fail("non-finite vertex coordinate");
+  }
+  return position;
 }
 
 void TextCursor::fail(std::string_view reason) const { throw_line_error(file_, line_number_, reason); }

@@ -1,7 +1,7 @@
 // Wavefront OBJ: `v` positions and `f` polygons; every other statement (vt, vn, o, g, s, usemtl, l, ...)
 // is ignored. Face corners may be written v, v/vt, v//vn or v/vt/vn; indices are 1-based, or negative
 // to count back from the latest vertex.
-#include <cmath>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -35,23 +35,17 @@ MeshSoup read_obj(const MeshFile& file) {
   while (cursor.next_line()) {
     const std::string_view statement = cursor.next_token();
     if (statement == "v") {
-      const double x = cursor.read_double("vertex x");
-      const double y = cursor.read_double("vertex y");
-      const double z = cursor.read_double("vertex z");
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) cursor.fail("non-finite vertex coordinate");
-      if (soup.positions.size() / 3 >= std::numeric_limits<std::uint32_t>::max()) {
-        cursor.fail("more vertices than 32-bit indices can address");
-      }
-      soup.positions.insert(soup.positions.end(), {x, y, z});
+      const std::array<double, 3> position = cursor.read_position();
+      const std::uint64_t vertex_count = soup.positions.size() / 3 + 1;
+      if (vertex_count > std::numeric_limits<std::uint32_t>::max()) cursor.fail(too_many_vertices(vertex_count));
+      soup.positions.insert(soup.positions.end(), position.begin(), position.end());
     } else if (statement == "f") {
       polygon.clear();
       const std::size_t vertex_count = soup.positions.size() / 3;
       for (std::string_view token = cursor.next_token(); !token.empty(); token = cursor.next_token()) {
         polygon.push_back(corner_index(cursor, token, vertex_count));
       }
-      if (polygon.size() < 3) {
-        cursor.fail("face with " + std::to_string(polygon.size()) + " vertices (a face needs at least 3)");
-      }
+      if (polygon.size() < 3) cursor.fail(too_few_corners(polygon.size()));
       append_fan(polygon, soup.triangles);
     }
   }

@@ -2,7 +2,7 @@
 // NOFF, STOFF whose extra per-vertex values are ignored), a line with the vertex, face and (ignored) edge
 // counts, one vertex per line, then one polygon per line as `n i0 ... i(n-1)` with optional trailing colour
 // values. `#` starts a comment.
-#include <cmath>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -47,7 +47,7 @@ MeshSoup read_off(const MeshFile& file) {
   const std::uint64_t vertex_count = read_count(cursor, "vertex count");
   const std::uint64_t face_count = read_count(cursor, "face count");
   if (vertex_count > std::numeric_limits<std::uint32_t>::max()) {
-    cursor.fail("vertex count " + std::to_string(vertex_count) + " exceeds the 32-bit index range");
+    cursor.fail(too_many_vertices(vertex_count));
   }
 
   MeshSoup soup;
@@ -58,11 +58,8 @@ MeshSoup read_off(const MeshFile& file) {
     if (!cursor.next_data_line()) {
       cursor.fail("file ends after " + std::to_string(v) + " of " + std::to_string(vertex_count) + " vertices");
     }
-    const double x = cursor.read_double("vertex x");
-    const double y = cursor.read_double("vertex y");
-    const double z = cursor.read_double("vertex z");
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) cursor.fail("non-finite vertex coordinate");
-    soup.positions.insert(soup.positions.end(), {x, y, z});
+    const std::array<double, 3> position = cursor.read_position();
+    soup.positions.insert(soup.positions.end(), position.begin(), position.end());
   }
 
   soup.triangles.reserve(3 * plausible_count(face_count, bytes_left, 8));
@@ -71,14 +68,13 @@ MeshSoup read_off(const MeshFile& file) {
     if (!cursor.next_data_line()) {
       cursor.fail("file ends after " + std::to_string(f) + " of " + std::to_string(face_count) + " faces");
     }
-    const std::int64_t corners = cursor.read_integer("face vertex count");
-    if (corners < 3) cursor.fail("face with " + std::to_string(corners) + " vertices (a face needs at least 3)");
+    const std::uint64_t corners = read_count(cursor, "face vertex count");
+    if (corners < 3) cursor.fail(too_few_corners(corners));
     polygon.clear();
-    for (std::int64_t c = 0; c < corners; ++c) {
+    for (std::uint64_t c = 0; c < corners; ++c) {
       const std::int64_t index = cursor.read_integer("face vertex index");
       if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count) {
-        cursor.fail("face index " + std::to_string(index) + " out of range (file has " +
-                    std::to_string(vertex_count) + " vertices)");
+        cursor.fail(index_out_of_range(index, vertex_count));
       }
       polygon.push_back(static_cast<std::uint32_t>(index));
     }

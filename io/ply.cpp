@@ -155,11 +155,11 @@ PlyHeader read_header(TextCursor& cursor) {
       element.count = static_cast<std::uint64_t>(count);
       element.kind = element_kind(element.name);
       if (element.kind == PlyElementKind::vertex && element.count > std::numeric_limits<std::uint32_t>::max()) {
-        cursor.fail("vertex count " + std::to_string(element.count) + " exceeds the 32-bit index range");
+        cursor.fail(too_many_vertices(element.count));
       }
-      for (const PlyElement& earlier : header.elements) {
-        if (element.kind != PlyElementKind::other && earlier.kind == element.kind) {
-          cursor.fail("second '" + element.name + "' element");
+      if (element.kind != PlyElementKind::other) {
+        for (const PlyElement& earlier : header.elements) {
+          if (earlier.kind == element.kind) cursor.fail("second '" + element.name + "' element");
         }
       }
       header.elements.push_back(std::move(element));
@@ -287,8 +287,7 @@ template <class Body>
 std::uint32_t vertex_index(const Body& body, double value, std::uint64_t vertex_count) {
   const std::int64_t index = whole_number(body, value, "vertex index");
   if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count) {
-    body.fail("vertex index " + std::to_string(index) + " out of range (file has " + std::to_string(vertex_count) +
-              " vertices)");
+    body.fail(index_out_of_range(index, vertex_count));
   }
   return static_cast<std::uint32_t>(index);
 }
@@ -355,9 +354,7 @@ void read_body(Body& body, std::size_t bytes_left, const PlyHeader& header, Mesh
         }
         soup.positions.insert(soup.positions.end(), std::begin(xyz), std::end(xyz));
       } else if (element.kind == PlyElementKind::face) {
-        if (list_values.size() < 3) {
-          body.fail("face with " + std::to_string(list_values.size()) + " vertices (a face needs at least 3)");
-        }
+        if (list_values.size() < 3) body.fail(too_few_corners(list_values.size()));
         polygon.clear();
         for (double value : list_values) polygon.push_back(vertex_index(body, value, header.vertex_count));
         append_fan(polygon, soup.triangles);

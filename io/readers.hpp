@@ -2,6 +2,7 @@
 // locale-independent number parsing, a line/token cursor for the text formats, and fan triangulation.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -36,6 +37,11 @@ bool parse_integer(std::string_view token, std::int64_t& value);
 // `min_bytes_per_item` of the `bytes_left` in the file: a lying header must not allocate gigabytes.
 std::size_t plausible_count(std::uint64_t count, std::size_t bytes_left, std::size_t min_bytes_per_item);
 
+// Reasons worded alike in every format.
+std::string too_few_corners(std::size_t corners);  // a polygon with fewer than 3 corners
+std::string index_out_of_range(std::int64_t index, std::uint64_t vertex_count);
+std::string too_many_vertices(std::uint64_t vertex_count);  // more than 32-bit indices address
+
 // Append the triangles (c0 c1 c2), (c0 c2 c3), ... of a polygon whose indices are already checked.
 void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles);
 
@@ -61,6 +67,8 @@ class TextCursor {
   // The next token on the current line as a number; throws naming `what` if it is missing or malformed.
   double read_double(std::string_view what);
   std::int64_t read_integer(std::string_view what);
+  // The next three tokens as a vertex position; throws if one is missing, malformed or not finite.
+  std::array<double, 3> read_position();
 
   // Byte offset just past the current line: where a binary body starts after a text header.
   std::size_t offset_after_line() const { return next_line_start_; }

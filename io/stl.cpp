@@ -20,8 +20,8 @@ constexpr std::size_t kBinaryTriangleBytes = 50;  // normal, three corners (12 f
 // Numbers positions in order of first appearance, giving identical ones the same index.
 class VertexMerger {
  public:
-  explicit VertexMerger(MeshSoup& soup, std::size_t expected_corners) : soup_(soup) {
-    indices_.reserve(expected_corners);
+  VertexMerger(MeshSoup& soup, std::size_t expected_vertices) : soup_(soup) {
+    indices_.reserve(expected_vertices);
   }
 
   std::uint32_t index_of(double x, double y, double z) {
@@ -77,7 +77,7 @@ MeshSoup read_binary_stl(const MeshFile& file, std::uint32_t triangle_count) {
 // endsolid name. Read token by token, so the line layout does not matter; several solids are concatenated.
 MeshSoup read_ascii_stl(const MeshFile& file) {
   MeshSoup soup;
-  VertexMerger merger(soup, file.bytes.size() / 256);  // a facet takes about 250 bytes of text
+  VertexMerger merger(soup, file.bytes.size() / 512);  // ~250 bytes a facet, half as many vertices as facets
   TextCursor cursor(file);
   std::vector<std::uint32_t> polygon;
   bool in_facet = false;
@@ -89,21 +89,19 @@ MeshSoup read_ascii_stl(const MeshFile& file) {
     } else if (token == "facet") {
       if (in_facet) cursor.fail("'facet' before the previous facet's 'endfacet'");
       if (cursor.next_token() != "normal") cursor.fail("expected 'normal' after 'facet'");
-      for (int i = 0; i < 3; ++i) cursor.read_double("normal component");
+      // The normal is recomputable and ignored; some writers put "nan" or "1.#QNAN" there for slivers.
+      for (int i = 0; i < 3; ++i) {
+        if (cursor.next_token().empty()) cursor.fail("missing normal component");
+      }
       in_facet = true;
       polygon.clear();
     } else if (token == "vertex") {
       if (!in_facet) cursor.fail("'vertex' outside a facet");
-      const double x = cursor.read_double("vertex x");
-      const double y = cursor.read_double("vertex y");
-      const double z = cursor.read_double("vertex z");
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) cursor.fail("non-finite vertex coordinate");
+      const auto [x, y, z] = cursor.read_position();
       polygon.push_back(merger.index_of(x, y, z));
     } else if (token == "endfacet") {
       if (!in_facet) cursor.fail("'endfacet' without 'facet'");
-      if (polygon.size() < 3) {
-        cursor.fail("facet with " + std::to_string(polygon.size()) + " vertices (a face needs at least 3)");
-      }
+      if (polygon.size() < 3) cursor.fail(too_few_corners(polygon.size()));
       append_fan(polygon, soup.triangles);
       in_facet = false;
     } else if (token == "outer") {

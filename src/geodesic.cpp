@@ -71,13 +71,24 @@ class VtpEngine {
   const std::vector<double>& distances() const { return distance_; }
   GeodesicStats& stats() { return stats_; }
 
-  // The source each surface vertex's path starts from, following the chain of pseudo-sources.
-  std::uint32_t nearest_source(std::uint32_t v) const {
-    for (std::uint32_t steps = 0; v != kNone && steps <= mesh_.vertex_count; ++steps) {
-      if (source_label_[v] != kNone) return source_label_[v];
-      v = parent_[v];
-    }
-    return kNone;
+  // The source each surface vertex's path starts from: the label of the first vertex on its chain of
+  // pseudo-sources that is a source. Parents are reached with strictly smaller distances, so resolving
+  // vertices in order of distance needs one step each.
+  std::vector<std::uint32_t> nearest_sources() const {
+    std::vector<std::uint32_t> order;
+    for (std::uint32_t v = 0; v < mesh_.vertex_count; ++v)
+      if (distance_[v] < HUGE_VAL) order.push_back(v);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return distance_[a] < distance_[b] || (distance_[a] == distance_[b] && a < b);
+    });
+    std::vector<std::uint32_t> label(mesh_.vertex_count, kNone);
+    for (std::uint32_t v : order)
+      label[v] = source_label_[v] != kNone ? source_label_[v] : label[parent_[v]];
+    // A parent at exactly the same distance (across a zero-length edge) may come later in that order.
+    for (std::uint32_t v : order)
+      for (std::uint32_t u = v, steps = 0; label[v] == kNone && u != kNone && steps <= mesh_.vertex_count; ++steps)
+        label[v] = label[u = parent_[u]];
+    return label;
   }
 
  private:
@@ -242,11 +253,14 @@ GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t
   result.distances.assign(mesh.vertex_count(), HUGE_VAL);
   result.nearest_source.assign(mesh.vertex_count(), kNoSource);
   const std::vector<double>& d = engine.distances();
+  // With one source every reachable vertex belongs to it; otherwise follow the pseudo-source chains.
+  const std::vector<std::uint32_t> labels =
+      source_vertices.size() > 1 ? engine.nearest_sources() : std::vector<std::uint32_t>();
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
     for (std::uint32_t s : surface.copies_of(v)) {
       if (d[s] < result.distances[v]) {
         result.distances[v] = d[s];
-        result.nearest_source[v] = engine.nearest_source(s);
+        result.nearest_source[v] = labels.empty() ? 0 : labels[s];
       }
     }
   }

@@ -7,7 +7,10 @@
 namespace exactgeo::detail {
 namespace {
 
-double distance_at(const Window& w, double x) { return w.sigma + std::hypot(x - w.px, w.py); }
+// Plain sqrt of squares: coordinates are mesh-sized, far from overflow, and std::hypot's scaling is slow.
+double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
+
+double distance_at(const Window& w, double x) { return w.sigma + length(x - w.px, w.py); }
 
 // Where the line from the pseudo-source through C meets AB (paper Section 4.1). When both lie on AB's line
 // (a flat triangle and a pseudo-source on the edge) every ray runs along AB; any split point is as good.
@@ -22,9 +25,9 @@ double apex_split(const Window& w, const FaceFrame& f) {
 std::pair<double, double> distance_to_apex(const Window& w, const FaceFrame& f) {
   const double split = apex_split(w, f);
   if (split >= w.b0 && split <= w.b1)
-    return {w.sigma + std::hypot(f.apex_x - w.px, f.apex_y - w.py), split};
+    return {w.sigma + length(f.apex_x - w.px, f.apex_y - w.py), split};
   const double end = split < w.b0 ? w.b0 : w.b1;
-  return {distance_at(w, end) + std::hypot(f.apex_x - end, f.apex_y), end};
+  return {distance_at(w, end) + length(f.apex_x - end, f.apex_y), end};
 }
 
 // A ray from (px, py) through (x, 0) continues across the triangle; returns where it meets the edge that
@@ -107,9 +110,9 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   // root with Newton steps on the difference itself, and keep it only if it stays inside the overlap.
   auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
   auto add_root = [&](double x) {
-    for (int step = 0; step < 3 && x > 0 && x < span; ++step) {
-      const double slope = (lo + x - second.px) / std::hypot(lo + x - second.px, second.py) -
-                           (lo + x - first.px) / std::hypot(lo + x - first.px, first.py);
+    for (int step = 0; step < 2 && x > 0 && x < span; ++step) {
+      const double slope = (lo + x - second.px) / length(lo + x - second.px, second.py) -
+                           (lo + x - first.px) / length(lo + x - first.px, first.py);
       if (!(std::abs(slope) > 1e-12)) break;
       x -= difference(x) / slope;
     }
@@ -131,23 +134,17 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   breaks[root_count + 1] = span;
   const int count = root_count + 2;
 
-  // Sign of (second - first) on each piece. A piece counts as lost by one window only if the difference
-  // says so at its midpoint, its quarter points and at whichever of its ends is an end of the overlap (a
-  // root is where the sign changes, so it proves nothing): a root that was missed leaves no piece mislabelled.
+  // Sign of (second - first) on each piece, from its midpoint. The first and last pieces must also agree
+  // with the sign at the overlap's end: a root missed near an end would otherwise mislabel a sliver.
   std::array<int, 3> sign{};
   const int pieces = count - 1;
   auto sign_of = [&](double x) {
     const double d = difference(x);
     return d > tol.prune ? 1 : (d < -tol.prune ? -1 : 0);
   };
-  for (int k = 0; k < pieces; ++k) {
-    const double u = breaks[k], v = breaks[k + 1];
-    int s = sign_of(0.5 * (u + v));
-    if (sign_of(0.75 * u + 0.25 * v) != s || sign_of(0.25 * u + 0.75 * v) != s) s = 0;
-    if (k == 0 && sign_of(u) != s) s = 0;
-    if (k == pieces - 1 && sign_of(v) != s) s = 0;
-    sign[k] = s;
-  }
+  for (int k = 0; k < pieces; ++k) sign[k] = sign_of(0.5 * (breaks[k] + breaks[k + 1]));
+  if (sign[0] != 0 && sign_of(0) == -sign[0]) sign[0] = 0;
+  if (sign[pieces - 1] != 0 && sign_of(span) == -sign[pieces - 1]) sign[pieces - 1] = 0;
   // Trims from `w` the pieces where it loses (sign == loser), from whichever of its ends lie in the overlap.
   auto trim = [&](Window& w, int loser) {
     const bool starts_in = w.b0 >= lo, ends_in = w.b1 <= hi;
@@ -193,8 +190,8 @@ ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame) {
 std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& f, const ApexReach& reach, bool rule1,
                          const CornerDistances& corners, const Tolerances& tol, std::vector<Window>& to_ac,
                          std::vector<Window>& to_bc) {
-  const double length_ac_frame = std::hypot(f.apex_x, f.apex_y);
-  const double length_bc_frame = std::hypot(f.length - f.apex_x, f.apex_y);
+  const double length_ac_frame = length(f.apex_x, f.apex_y);
+  const double length_bc_frame = length(f.length - f.apex_x, f.apex_y);
   // Direction of AC from A, and of BC from B in the mirrored frame; a zero-length side has no direction.
   const double cos_a = length_ac_frame > 0 ? f.apex_x / length_ac_frame : 1, sin_a = length_ac_frame > 0 ? f.apex_y / length_ac_frame : 0;
   const double cos_b = length_bc_frame > 0 ? (f.length - f.apex_x) / length_bc_frame : 1,

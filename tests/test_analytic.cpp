@@ -348,7 +348,7 @@ class ConvexPolyhedron {
   void extend(Unfolding& u) {
     unfoldings_.push_back(u);
     const std::size_t f = u.faces.back();
-    const Placement& at = u.placements.back();
+    const Placement at = u.placements.back();  // a copy: extending u below reallocates
     for (std::size_t g = 0; g < faces_.size(); ++g) {
       if (std::find(u.faces.begin(), u.faces.end(), g) != u.faces.end()) continue;
       const auto edge = shared_edge(f, g);
@@ -658,7 +658,9 @@ TEST_P(AnalyticDistance, SubdividedTetrahedron) {
     EXPECT_NEAR(d[1], a, a * kExact);
     EXPECT_NEAR(d[vertex_at(soup, {1, 0, 0})], a / 2, a * kExact);                  // midpoint of edge v0v1
     EXPECT_NEAR(d[vertex_at(soup, {0, 0, -1})], a * std::sqrt(3.0) / 2, a * kExact);  // of edge v1v2
-    if (level >= 2) EXPECT_NEAR(d[vertex_at(soup, {-0.5, -0.5, 0})], a * std::sqrt(19.0) / 4, a * kExact);
+    if (level >= 2) {
+      EXPECT_NEAR(d[vertex_at(soup, {-0.5, -0.5, 0})], a * std::sqrt(19.0) / 4, a * kExact);
+    }
     EXPECT_TRUE(distances_match(d, expected_distances(soup, 0, on_tetrahedron), kExact));
   }
   // A source on the opposite face, away from any vertex of the original tetrahedron.

@@ -1,6 +1,7 @@
 #include "test_meshes.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -84,19 +85,45 @@ bool repeats_a_vertex(const exactgeo::MeshSoup& soup, std::size_t face) {
   return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
 }
 
-std::vector<std::array<std::uint32_t, 2>> unique_edges(const exactgeo::MeshSoup& soup) {
-  std::vector<std::array<std::uint32_t, 2>> edges;
-  for (const auto& [edge, faces] : faces_of_edges(soup)) edges.push_back({edge.first, edge.second});
+std::vector<MeshEdge> unique_edges(const exactgeo::MeshSoup& soup) {
+  std::vector<MeshEdge> edges;
+  for (const auto& [edge, faces] : faces_of_edges(soup))
+    edges.push_back({edge.first, edge.second, static_cast<std::uint32_t>(faces.size())});
   return edges;
 }
 
-std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uint32_t source) {
+std::vector<std::uint8_t> non_manifold_vertices(const exactgeo::MeshSoup& soup) {
+  // Corners (3 * face + k) around the same vertex are joined when their faces share a two-face edge there.
+  UnionFind fans(soup.triangles.size());
+  for (const auto& [edge, faces] : faces_of_edges(soup)) {
+    if (faces.size() != 2) continue;
+    for (std::uint32_t v : {edge.first, edge.second}) {
+      std::array<std::uint32_t, 2> corner;
+      for (int i = 0; i < 2; ++i)
+        for (std::uint32_t k = 0; k < 3; ++k)
+          if (soup.triangles[3 * faces[i] + k] == v) corner[i] = 3 * faces[i] + k;
+      fans.unite(corner[0], corner[1]);
+    }
+  }
+  std::vector<std::uint32_t> first_fan(vertex_count(soup), UINT32_MAX);
+  std::vector<std::uint8_t> split(vertex_count(soup), 0);
+  for (std::uint32_t c = 0; c < soup.triangles.size(); ++c) {
+    if (repeats_a_vertex(soup, c / 3)) continue;
+    const std::uint32_t v = soup.triangles[c], fan = fans.find(c);
+    if (first_fan[v] == UINT32_MAX) first_fan[v] = fan;
+    if (first_fan[v] != fan) split[v] = 1;
+  }
+  return split;
+}
+
+std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uint32_t source,
+                                        std::span<const std::uint8_t> blocked) {
   const std::size_t n = vertex_count(soup);
   std::vector<std::vector<std::pair<std::uint32_t, double>>> neighbours(n);
-  for (const auto& [a, b] : unique_edges(soup)) {
-    const double length = distance_between(soup, a, b);
-    neighbours[a].push_back({b, length});
-    neighbours[b].push_back({a, length});
+  for (const MeshEdge& e : unique_edges(soup)) {
+    const double length = distance_between(soup, e.low, e.high);
+    neighbours[e.low].push_back({e.high, length});
+    neighbours[e.high].push_back({e.low, length});
   }
   std::vector<double> d(n, HUGE_VAL);
   using Entry = std::pair<double, std::uint32_t>;
@@ -106,7 +133,7 @@ std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uin
   while (!queue.empty()) {
     const auto [dv, v] = queue.top();
     queue.pop();
-    if (dv > d[v]) continue;
+    if (dv > d[v] || (v != source && !blocked.empty() && blocked[v])) continue;
     for (const auto& [w, length] : neighbours[v]) {
       if (dv + length < d[w]) {
         d[w] = dv + length;

@@ -69,12 +69,23 @@ std::size_t face_count(const exactgeo::MeshSoup& soup);
 // True if the triangle names one vertex twice; the mesh policy drops such faces.
 bool repeats_a_vertex(const exactgeo::MeshSoup& soup, std::size_t face);
 
-// Undirected edges of the faces that do not repeat a vertex, each once, as (low, high) vertex pairs.
-std::vector<std::array<std::uint32_t, 2>> unique_edges(const exactgeo::MeshSoup& soup);
+// An undirected edge of the faces that do not repeat a vertex, and how many of them use it.
+struct MeshEdge {
+  std::uint32_t low, high;  // vertices, low < high
+  std::uint32_t faces;
+};
+std::vector<MeshEdge> unique_edges(const exactgeo::MeshSoup& soup);
 
-// Shortest paths along mesh edges (Euclidean edge lengths) from `source`: an upper bound on the geodesic
-// distance wherever every vertex on the path is a single surface vertex. +inf where no path exists.
-std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uint32_t source);
+// Per vertex, 1 if its faces form more than one fan, fans being faces around it joined across edges shared
+// by exactly two faces: the vertices the mesh policy splits into several surface vertices.
+std::vector<std::uint8_t> non_manifold_vertices(const exactgeo::MeshSoup& soup);
+
+// Shortest paths along mesh edges (Euclidean edge lengths) from `source`, +inf where there is none. Paths
+// may end at, but not pass through, vertices marked in `blocked` (e.g. non_manifold_vertices, which a
+// geodesic cannot cross from one fan to another). An upper bound on the geodesic distance when every
+// split vertex is blocked.
+std::vector<double> edge_graph_dijkstra(const exactgeo::MeshSoup& soup, std::uint32_t source,
+                                        std::span<const std::uint8_t> blocked = {});
 
 // A vertex on a boundary edge (an edge used by exactly one face), or nullopt for a closed mesh.
 std::optional<std::uint32_t> first_boundary_vertex(const exactgeo::MeshSoup& soup);
