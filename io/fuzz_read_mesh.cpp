@@ -2,10 +2,11 @@
 // indices are in range and coordinates finite, or throw exactgeo::Error. Anything else (a crash, a sanitizer
 // report, a hang, another exception) is a bug.
 //
-//   clang++ -std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -Iio \
-//       io/fuzz_read_mesh.cpp io/mesh_io.cpp io/obj.cpp io/ply.cpp io/off.cpp io/stl.cpp src/mesh.cpp \
-//       -o fuzz_read_mesh
-//   ./fuzz_read_mesh -max_len=4096 -timeout=2 corpus/
+//   apt-get install clang libclang-rt-14-dev
+//   CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DEXACTGEO_BUILD_FUZZERS=ON -DEXACTGEO_BUILD_TESTS=OFF \
+//       -DEXACTGEO_BUILD_CLI=OFF -DEXACTGEO_BUILD_ORACLE=OFF
+//   ninja -C build-fuzz exactgeo_fuzz_read_mesh
+//   build-fuzz/exactgeo_fuzz_read_mesh -max_len=4096 -timeout=2 corpus/
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

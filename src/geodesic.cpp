@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <array>
 #include <deque>
+#include <numbers>
 #include <string>
 
 #include "exactgeo/error.hpp"
@@ -22,6 +24,75 @@ namespace {
 
 enum class VertexState : std::uint8_t { unseen, queued, inside };
 
+// How the last straight piece of a vertex's path arrives: through the point (position, 0) of `halfedge`,
+// whose apex is the vertex. kNone for sources.
+struct Arrival {
+  std::uint32_t halfedge;
+  double position;
+};
+
+// A set of directions around a vertex, as fan angles (SurfaceMesh::fan_angle_start), in up to two intervals.
+class ShadowCone {
+ public:
+  static ShadowCone everything() { return ShadowCone({{{-HUGE_VAL, HUGE_VAL}, {0.0, 0.0}}}, 1, 0.0); }
+
+  // The directions at least pi away on both sides from the arrival direction `arrival`, around a fan of
+  // `total` angle that is closed (an interior vertex) or open (a boundary vertex, angles in [0, total]).
+  static ShadowCone behind(double arrival, double total, bool closed) {
+    if (closed)  // one interval, to be compared modulo the total angle
+      return ShadowCone({{{arrival + std::numbers::pi - kShadowConeSlack,
+                           arrival + total - std::numbers::pi + kShadowConeSlack},
+                          {0.0, 0.0}}},
+                        1, total);
+    return ShadowCone({{{arrival + std::numbers::pi - kShadowConeSlack, HUGE_VAL},
+                        {-HUGE_VAL, arrival - std::numbers::pi + kShadowConeSlack}}},
+                      2, 0.0);
+  }
+
+  // The part [b0, b1] of the edge opposite to corner c (in the frame of halfedge next(c)) that rays from
+  // the vertex in these directions reach; b1 <= b0 if none. Two separate parts are merged into one span:
+  // a wider window is redundant, never wrong.
+  std::pair<double, double> part_of_opposite_edge(const SurfaceMesh& mesh, std::uint32_t c) const {
+    const double corner_angle = std::atan2(mesh.halfedges[c].apex_y, mesh.halfedges[c].apex_x);
+    const double start = mesh.fan_angle_start[c];
+    double lowest = HUGE_VAL, highest = -HUGE_VAL;
+    for (int i = 0; i < count_; ++i) {
+      for (int wrap = -1; wrap <= 1; ++wrap) {
+        if (wrap != 0 && period_ == 0) continue;
+        const double a0 = std::max(intervals_[i][0] + wrap * period_, start);
+        const double a1 = std::min(intervals_[i][1] + wrap * period_, start + corner_angle);
+        if (a1 < a0) continue;
+        lowest = std::min(lowest, a0 - start);
+        highest = std::max(highest, a1 - start);
+      }
+    }
+    if (lowest > highest) return {0.0, 0.0};
+    if (!mesh.corner_enters_forward[c]) {  // fan angles run from the corner's other edge
+      const double flipped_low = corner_angle - highest;
+      highest = corner_angle - lowest;
+      lowest = flipped_low;
+    }
+    // A ray at angle phi from edge c meets the opposite edge XY at |vX| sin(phi) / sin(phi + angle at X).
+    const std::uint32_t opposite = next_halfedge(c);
+    const HalfedgeGeometry& o = mesh.halfedges[opposite];
+    const double angle_at_x = std::atan2(o.apex_y, o.apex_x);
+    const double to_x = mesh.halfedges[c].length;
+    auto hit = [&](double phi) {
+      if (phi <= 0) return 0.0;
+      if (phi >= corner_angle) return o.length;
+      return std::clamp(to_x * std::sin(phi) / std::sin(phi + angle_at_x), 0.0, o.length);
+    };
+    return {hit(lowest), hit(highest)};
+  }
+
+ private:
+  ShadowCone(std::array<std::array<double, 2>, 2> intervals, int count, double period)
+      : intervals_(intervals), count_(count), period_(period) {}
+  std::array<std::array<double, 2>, 2> intervals_;
+  int count_;
+  double period_;  // the fan's total angle for a closed fan, 0 for an open one
+};
+
 class VtpEngine {
  public:
   VtpEngine(const SurfaceMesh& mesh, const GeodesicOptions& options)
@@ -35,6 +106,7 @@ class VtpEngine {
     distance_.assign(n, HUGE_VAL);
     emitted_at_.assign(n, HUGE_VAL);
     parent_.assign(n, kNone);
+    arrival_.assign(n, {kNone, 0.0});
     state_.assign(n, VertexState::unseen);
     emit_scheduled_.assign(n, 0);
     source_label_.assign(n, kNone);
@@ -47,7 +119,7 @@ class VtpEngine {
     for (std::size_t i = 0; i < source_vertices.size(); ++i) {
       const std::uint32_t s = source_vertices[i];
       source_label_[s] = source_index[i];
-      relax(s, 0.0, s);
+      relax(s, 0.0, s, {kNone, 0.0});
     }
     while (!queue_.empty()) {
       const std::uint32_t v = queue_.pop();
@@ -92,13 +164,33 @@ class VtpEngine {
   }
 
  private:
+  // The directions around v (as fan angles, see SurfaceMesh) into which a shortest path arriving at v can
+  // continue without being shortcut: at least pi from the arrival direction on both sides.
+  ShadowCone shadow_cone(std::uint32_t v) const {
+    const Arrival a = arrival_[v];
+    if (a.halfedge == kNone || !mesh_.fan_angles_reliable[v]) return ShadowCone::everything();
+    // The path reaches v = apex(h) from the point (t, 0) of h; measure that direction in v's corner of
+    // face(h), from its edge towards tail(h), then as a fan angle.
+    const HalfedgeGeometry& g = mesh_.halfedges[a.halfedge];
+    const double to_a_x = -g.apex_x, to_a_y = -g.apex_y;
+    const double to_t_x = a.position - g.apex_x, to_t_y = -g.apex_y;
+    const double local = std::atan2(std::abs(to_a_x * to_t_y - to_a_y * to_t_x), to_a_x * to_t_x + to_a_y * to_t_y);
+    const std::uint32_t corner = prev_halfedge(a.halfedge);  // leaves v towards tail(h)
+    const double corner_angle = std::atan2(mesh_.halfedges[corner].apex_y, mesh_.halfedges[corner].apex_x);
+    const double arrival = mesh_.fan_angle_start[corner] +
+                           (mesh_.corner_enters_forward[corner] ? local : corner_angle - local);
+    return ShadowCone::behind(arrival, mesh_.fan_total_angle[v], mesh_.fan_closed[v]);
+  }
+
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
 
-  // A path of length d reaches v, its last straight piece starting at pseudo-source `from`.
-  void relax(std::uint32_t v, double d, std::uint32_t from) {
+  // A path of length d reaches v, its last straight piece starting at pseudo-source `from` and arriving
+  // through `arrival` (kNone for a source).
+  void relax(std::uint32_t v, double d, std::uint32_t from, Arrival arrival) {
     if (!(d < distance_[v])) return;
     distance_[v] = d;
     parent_[v] = from;
+    arrival_[v] = arrival;
     if (state_[v] != VertexState::inside) {
       state_[v] = VertexState::queued;
       queue_.push_or_decrease(v, d);
@@ -115,20 +207,26 @@ class VtpEngine {
     pending_.push_back(h);
   }
 
-  // Paper Section 5.2, "Saddle Vertices": a pseudo-source sends one window across each edge opposite to
-  // it in its one-ring and offers its distance to its neighbours.
+  // Paper Section 5.2, "Saddle Vertices": a pseudo-source sends windows across the edges opposite to it in
+  // its one-ring and offers its distance to its neighbours. A shortest path bends at v only into the
+  // directions at least pi away, on both sides, from the direction it arrived from (else it could be
+  // shortened around v): only that shadow cone gets windows, which for a scan's many near-flat saddles is
+  // a sliver. Sources, and vertices without reliable angles, send windows everywhere.
   void emit(std::uint32_t v) {
     emitted_at_[v] = distance_[v];
     ++stats_.pseudo_source_emissions;
+    const ShadowCone cone = shadow_cone(v);
     for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
       const std::uint32_t c = mesh_.vertex_corners[i];  // halfedge leaving v
       const std::uint32_t opposite = next_halfedge(c);
-      relax(mesh_.head(c), distance_[v] + mesh_.halfedges[c].length, v);
-      relax(mesh_.apex(c), distance_[v] + mesh_.halfedges[prev_halfedge(c)].length, v);
+      relax(mesh_.head(c), distance_[v] + mesh_.halfedges[c].length, v, {prev_halfedge(c), mesh_.halfedges[prev_halfedge(c)].length});
+      relax(mesh_.apex(c), distance_[v] + mesh_.halfedges[prev_halfedge(c)].length, v, {c, 0.0});
       const std::uint32_t g = mesh_.twin[opposite];
       if (g == kNone) continue;
       const HalfedgeGeometry& o = mesh_.halfedges[opposite];
-      Window w{0.0, o.length, o.apex_x, -o.apex_y, distance_[v], v, kNone};
+      const auto [b0, b1] = cone.part_of_opposite_edge(mesh_, c);
+      if (!(b1 - b0 > tolerances_.min_width)) continue;
+      Window w{b0, b1, o.apex_x, -o.apex_y, distance_[v], v, kNone};
       w = to_twin_frame(w, o.length, mesh_.tail(g) != mesh_.tail(opposite));
       if (face_visited_at_[face_of(g)] != kNone) {
         lists_.append(g, w);
@@ -165,7 +263,7 @@ class VtpEngine {
                           mesh_.halfedges[next_halfedge(h)].length};
     const std::uint32_t a = mesh_.tail(h), b = mesh_.head(h), c = mesh_.apex(h);
     const ApexReach reach = reach_apex(incoming_, frame);
-    relax(c, reach.distance, incoming_[reach.window].pseudo_source);
+    relax(c, reach.distance, incoming_[reach.window].pseudo_source, {h, reach.separating_point});
 
     to_ac_.clear();
     to_bc_.clear();
@@ -212,6 +310,7 @@ class VtpEngine {
   GeodesicStats stats_;
 
   std::vector<double> distance_, emitted_at_;
+  std::vector<Arrival> arrival_;
   std::vector<std::uint32_t> parent_, source_label_, face_visited_at_;
   std::vector<VertexState> state_;
   std::vector<std::uint8_t> scheduled_, emit_scheduled_;

@@ -221,6 +221,8 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
     on_boundary[s.tail(h)] = 1;
     on_boundary[s.head(h)] = 1;
   }
+  s.fan_angles_reliable.assign(s.vertex_count, 1);
+  for (std::uint32_t v = 0; v < s.vertex_count; ++v) s.fan_angles_reliable[v] = !near_degenerate[v];
   s.is_pseudo_source.assign(s.vertex_count, 0);
   for (std::uint32_t v = 0; v < s.vertex_count; ++v) {
     const double full = on_boundary[v] ? std::numbers::pi : 2 * std::numbers::pi;
@@ -252,6 +254,42 @@ void join_cut_edges_between_same_copies(SurfaceMesh& s) {
       s.twin[keyed[i + 1].second] = keyed[i].second;
     }
     i = j;
+  }
+}
+
+// Orders each vertex's corners around it (see SurfaceMesh::fan_angle_start).
+void walk_fans(SurfaceMesh& s) {
+  const std::size_t corner_count = s.corner_vertex.size();
+  s.fan_angle_start.assign(corner_count, 0.0);
+  s.corner_enters_forward.assign(corner_count, 1);
+  s.fan_total_angle.assign(s.vertex_count, 0.0);
+  s.fan_closed.assign(s.vertex_count, 1);
+  auto corner_angle = [&](std::uint32_t c) { return std::atan2(s.halfedges[c].apex_y, s.halfedges[c].apex_x); };
+  for (std::uint32_t v = 0; v < s.vertex_count; ++v) {
+    const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
+    // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.
+    std::uint32_t start = s.vertex_corners[begin];
+    bool forward = true;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t c = s.vertex_corners[i];
+      if (s.twin[c] == kNone) { start = c; forward = true; s.fan_closed[v] = 0; break; }
+      if (s.twin[prev_halfedge(c)] == kNone) { start = c; forward = false; s.fan_closed[v] = 0; break; }
+    }
+    double walked = 0;
+    std::uint32_t c = start;
+    for (std::uint32_t step = begin; step < end; ++step) {
+      s.fan_angle_start[c] = walked;
+      s.corner_enters_forward[c] = forward;
+      walked += corner_angle(c);
+      const std::uint32_t exit = forward ? prev_halfedge(c) : c;  // the corner's other edge at v
+      const std::uint32_t across = s.twin[exit];
+      if (across == kNone) break;
+      // The corner of v beyond that edge is entered through it: forward if v is the twin's tail.
+      forward = s.tail(across) == v;
+      c = forward ? across : next_halfedge(across);
+      if (c == start) break;
+    }
+    s.fan_total_angle[v] = walked;
   }
 }
 
@@ -310,6 +348,7 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
   split_into_fans(*s, input_vertex_of_corner, vertex_count);
   if (report.non_manifold_edges > 0) join_cut_edges_between_same_copies(*s);
   compute_geometry(*s, input_vertex_of_corner);
+  walk_fans(*s);
   report.surface_vertices = s->vertex_count;
   report.components = count_components(*s);
 

@@ -47,9 +47,10 @@ double hit_side(double px, double py, double x, double cos_angle, double sin_ang
 // Near the start vertex the excess D_w(x) - d_start - x is non-increasing in x, near the end vertex
 // D_w(x) - d_end - (length - x) is non-decreasing, so each check removes a prefix or a suffix.
 bool check_with_vertices(Window& w, double length, double d_start, double d_end, const Tolerances& tol) {
-  if (distance_at(w, w.b1) > d_start + w.b1 + tol.prune) return false;
-  if (distance_at(w, w.b0) > d_end + (length - w.b0) + tol.prune) return false;
-  if (distance_at(w, w.b0) > d_start + w.b0 + tol.prune) {
+  const double at_b0 = distance_at(w, w.b0), at_b1 = distance_at(w, w.b1);
+  if (at_b1 > d_start + w.b1 + tol.prune) return false;
+  if (at_b0 > d_end + (length - w.b0) + tol.prune) return false;
+  if (at_b0 > d_start + w.b0 + tol.prune) {
     const double k = d_start + tol.prune - w.sigma;  // solve sigma + r(x) = d_start + tol + x
     const double denominator = 2 * (w.px + k);
     if (denominator > 0) {
@@ -57,7 +58,7 @@ bool check_with_vertices(Window& w, double length, double d_start, double d_end,
       if (tie > w.b0 && tie < w.b1) w.b0 = tie;
     }
   }
-  if (distance_at(w, w.b1) > d_end + (length - w.b1) + tol.prune) {
+  if (at_b1 > d_end + (length - w.b1) + tol.prune) {
     const double k = d_end + tol.prune + length - w.sigma;  // solve sigma + r(x) = d_end + tol + length - x
     const double denominator = 2 * (k - w.px);
     if (denominator > 0) {
@@ -111,10 +112,10 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
   auto add_root = [&](double x) {
     for (int step = 0; step < 2 && x > 0 && x < span; ++step) {
-      const double slope = (lo + x - second.px) / length(lo + x - second.px, second.py) -
-                           (lo + x - first.px) / length(lo + x - first.px, first.py);
+      const double r1 = length(lo + x - first.px, first.py), r2 = length(lo + x - second.px, second.py);
+      const double slope = (lo + x - second.px) / r2 - (lo + x - first.px) / r1;
       if (!(std::abs(slope) > 1e-12)) break;
-      x -= difference(x) / slope;
+      x -= (second.sigma + r2 - first.sigma - r1) / slope;
     }
     if (x > 0 && x < span) roots[root_count++] = x;
   };

@@ -53,6 +53,16 @@ struct SurfaceMesh {
   // degenerate faces (kept conservatively). They re-emit windows as pseudo-sources.
   std::vector<std::uint8_t> is_pseudo_source;
 
+  // Angles around each vertex, walking its fan of corners from one boundary edge (or any edge if the fan
+  // is closed). Corner c (the halfedge leaving its vertex) is entered through its edge c when
+  // corner_enters_forward[c], else through its other edge at the vertex (prev(c)); fan_angle_start[c] is
+  // the angle already walked when entering it. Vertices of degenerate faces have no reliable fan angles.
+  std::vector<double> fan_angle_start;             // per corner
+  std::vector<std::uint8_t> corner_enters_forward;  // per corner
+  std::vector<double> fan_total_angle;              // per vertex
+  std::vector<std::uint8_t> fan_closed;             // per vertex: no boundary edge around it
+  std::vector<std::uint8_t> fan_angles_reliable;    // per vertex
+
   double length_scale = 1.0;  // bounding-box diagonal of the used vertices
 
   // Surface vertices that carry input vertex v's distance (none if v is used by no face).

@@ -9,6 +9,10 @@ namespace exactgeo::detail {
 // excess is below this loses at most a wedge of that width, far below the distance accuracy we guarantee.
 inline constexpr double kSaddleAngleTolerance = 1e-10;
 
+// Angle by which a pseudo-source's shadow cone (the directions into which paths bend there) is widened on
+// each side, so that rounding in the arrival direction cannot hide a path.
+inline constexpr double kShadowConeSlack = 1e-9;
+
 // Relative to the mesh's length scale (bounding-box diagonal):
 // a window is pruned only if the alternative path is shorter by more than this;
 inline constexpr double kPruneTolerance = 1e-12;

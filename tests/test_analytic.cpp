@@ -23,10 +23,13 @@
 namespace {
 
 using exactgeo::MeshSoup;
+using exactgeo_test::add_triangle;
+using exactgeo_test::add_vertex;
 using exactgeo_test::distance;
 using exactgeo_test::distances_match;
 using exactgeo_test::Random;
 using exactgeo_test::Vec3;
+using exactgeo_test::vertex_at;
 using exactgeo_test::vertex_count;
 using exactgeo_test::vertex_position;
 using Vec2 = std::array<double, 2>;
@@ -47,19 +50,6 @@ Vec3 normalized(const Vec3& a) { return scaled(a, 1.0 / std::sqrt(dot(a, a))); }
 Vec2 sub(const Vec2& a, const Vec2& b) { return {a[0] - b[0], a[1] - b[1]}; }
 double cross(const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; }
 double distance(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
-
-void push_vertex(MeshSoup& soup, const Vec3& p) { soup.positions.insert(soup.positions.end(), p.begin(), p.end()); }
-void push_triangle(MeshSoup& soup, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-  soup.triangles.insert(soup.triangles.end(), {a, b, c});
-}
-
-// The vertex at exactly position p; fails the test if there is none.
-std::uint32_t vertex_at(const MeshSoup& soup, const Vec3& p) {
-  for (std::uint32_t v = 0; v < vertex_count(soup); ++v)
-    if (vertex_position(soup, v) == p) return v;
-  ADD_FAILURE() << "no vertex at (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
-  return 0;
-}
 
 // Expected distances from `source` given a function of the two positions.
 std::vector<double> expected_distances(const MeshSoup& soup, std::uint32_t source,
@@ -105,8 +95,8 @@ MeshSoup random_convex_triangulation(std::uint64_t seed, int boundary_count, int
     }
   }
   MeshSoup soup;
-  for (const Vec2& p : points) push_vertex(soup, {p[0], p[1], 0.0});
-  for (const auto& t : triangles) push_triangle(soup, t[0], t[1], t[2]);
+  for (const Vec2& p : points) add_vertex(soup, {p[0], p[1], 0.0});
+  for (const auto& t : triangles) add_triangle(soup, t[0], t[1], t[2]);
   return soup;
 }
 
@@ -238,8 +228,7 @@ MeshSoup cell_domain_mesh(const CellDomain& domain, std::uint64_t seed) {
         p[0] += random.uniform(-0.2, 0.2);
         p[1] += random.uniform(-0.2, 0.2);
       }
-      index[j * (n + 1) + i] = static_cast<std::uint32_t>(vertex_count(soup));
-      push_vertex(soup, p);
+      index[j * (n + 1) + i] = add_vertex(soup, p);
     }
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
@@ -247,11 +236,11 @@ MeshSoup cell_domain_mesh(const CellDomain& domain, std::uint64_t seed) {
       const std::uint32_t a = index[j * (n + 1) + i], b = index[j * (n + 1) + i + 1],
                           c = index[(j + 1) * (n + 1) + i + 1], d = index[(j + 1) * (n + 1) + i];
       if ((i + j) % 2 == 0) {
-        push_triangle(soup, a, b, c);
-        push_triangle(soup, a, c, d);
+        add_triangle(soup, a, b, c);
+        add_triangle(soup, a, c, d);
       } else {
-        push_triangle(soup, a, b, d);
-        push_triangle(soup, b, c, d);
+        add_triangle(soup, a, b, d);
+        add_triangle(soup, b, c, d);
       }
     }
   return soup;
@@ -259,7 +248,8 @@ MeshSoup cell_domain_mesh(const CellDomain& domain, std::uint64_t seed) {
 
 std::vector<double> visibility_graph_distances(const CellDomain& domain, const MeshSoup& soup, std::uint32_t source) {
   std::vector<Vec2> targets;
-  for (std::uint32_t v = 0; v < vertex_count(soup); ++v) targets.push_back({soup.positions[3 * v], soup.positions[3 * v + 1]});
+  for (std::uint32_t v = 0; v < vertex_count(soup); ++v)
+    targets.push_back({soup.positions[3 * v], soup.positions[3 * v + 1]});
   return visibility_graph_distances(domain, targets[source], targets);
 }
 
@@ -420,7 +410,7 @@ MeshSoup cube_surface_mesh(int n) {
   std::map<std::array<int, 3>, std::uint32_t> index;
   const auto vertex = [&](std::array<int, 3> lattice) {
     auto [it, inserted] = index.try_emplace(lattice, static_cast<std::uint32_t>(vertex_count(soup)));
-    if (inserted) push_vertex(soup, {double(lattice[0]) / n, double(lattice[1]) / n, double(lattice[2]) / n});
+    if (inserted) add_vertex(soup, {double(lattice[0]) / n, double(lattice[1]) / n, double(lattice[2]) / n});
     return it->second;
   };
   for (int axis = 0; axis < 3; ++axis)
@@ -434,13 +424,14 @@ MeshSoup cube_surface_mesh(int n) {
             corner[k][b] = i + (k == 1 || k == 2);
             corner[k][c] = j + (k >= 2);
           }
-          const std::uint32_t p = vertex(corner[0]), q = vertex(corner[1]), r = vertex(corner[2]), s = vertex(corner[3]);
+          const std::uint32_t p = vertex(corner[0]), q = vertex(corner[1]), r = vertex(corner[2]),
+                              s = vertex(corner[3]);
           if ((i + j) % 2 == 0) {
-            push_triangle(soup, p, q, r);
-            push_triangle(soup, p, r, s);
+            add_triangle(soup, p, q, r);
+            add_triangle(soup, p, r, s);
           } else {
-            push_triangle(soup, p, q, s);
-            push_triangle(soup, q, r, s);
+            add_triangle(soup, p, q, s);
+            add_triangle(soup, q, r, s);
           }
         }
     }
@@ -453,8 +444,8 @@ const double kTetrahedronEdge = 2 * std::numbers::sqrt2;
 
 MeshSoup tetrahedron_mesh() {
   MeshSoup soup;
-  for (const Vec3& p : kTetrahedronCorners) push_vertex(soup, p);
-  for (const auto& f : kTetrahedronFaces) push_triangle(soup, f[0], f[1], f[2]);
+  for (const Vec3& p : kTetrahedronCorners) add_vertex(soup, p);
+  for (const auto& f : kTetrahedronFaces) add_triangle(soup, f[0], f[1], f[2]);
   return soup;
 }
 
@@ -484,23 +475,23 @@ struct SaddleCone {
     const double step = 2 * kPi / rays;
     const double beta = std::asin(std::sqrt((std::cos(step) - std::cos(sector_angle())) / (1 + std::cos(step))));
     MeshSoup soup;
-    push_vertex(soup, {0, 0, 0});
+    add_vertex(soup, {0, 0, 0});
     for (int k = 1; k <= rings; ++k)
       for (int i = 0; i < rays; ++i) {
         const double elevation = i % 2 == 0 ? beta : -beta;
-        push_vertex(soup, {k * std::cos(elevation) * std::cos(step * i), k * std::cos(elevation) * std::sin(step * i),
+        add_vertex(soup, {k * std::cos(elevation) * std::cos(step * i), k * std::cos(elevation) * std::sin(step * i),
                            k * std::sin(elevation)});
       }
     for (int i = 0; i < rays; ++i) {
       const int next = (i + 1) % rays;
-      push_triangle(soup, 0, vertex(1, i), vertex(1, next));
+      add_triangle(soup, 0, vertex(1, i), vertex(1, next));
       for (int k = 1; k < rings; ++k) {
         if ((i + k) % 2 == 0) {
-          push_triangle(soup, vertex(k, i), vertex(k + 1, i), vertex(k + 1, next));
-          push_triangle(soup, vertex(k, i), vertex(k + 1, next), vertex(k, next));
+          add_triangle(soup, vertex(k, i), vertex(k + 1, i), vertex(k + 1, next));
+          add_triangle(soup, vertex(k, i), vertex(k + 1, next), vertex(k, next));
         } else {
-          push_triangle(soup, vertex(k, i), vertex(k + 1, i), vertex(k, next));
-          push_triangle(soup, vertex(k + 1, i), vertex(k + 1, next), vertex(k, next));
+          add_triangle(soup, vertex(k, i), vertex(k + 1, i), vertex(k, next));
+          add_triangle(soup, vertex(k + 1, i), vertex(k + 1, next), vertex(k, next));
         }
       }
     }
@@ -561,9 +552,9 @@ TEST(AnalyticReference, UnfoldingHandValues) {
   EXPECT_DOUBLE_EQ(cube.surface_distance({0.5, 0.5, 0}, {1, 0.5, 0.5}), 1.0);
   EXPECT_DOUBLE_EQ(cube.surface_distance({0.5, 0.5, 0}, {1, 1, 1}), std::sqrt(2.5));
 
-  // Regular tetrahedron, edge a = 2*sqrt(2): a vertex to another, to the midpoint of the opposite edge
-  // v1v2 (the height of face v0v1v2, a*sqrt(3)/2), and to the point 1/4 v1 + 1/4 v2 + 1/2 v3 of the opposite face: unfolded
-  // across edge v1v3 it sits at (a/8, 5h/4) from v0's foot, h = a*sqrt(3)/2, so at a*sqrt(19)/4.
+  // Regular tetrahedron, edge a = 2*sqrt(2): a vertex to another, to the midpoint of edge v1v2 (the height
+  // of face v0v1v2, h = a*sqrt(3)/2), and to the point 1/4 v1 + 1/4 v2 + 1/2 v3 of the opposite face: with
+  // that face unfolded across edge v1v3 the point lies a/8 along and 5h/4 across from v0, so at a*sqrt(19)/4.
   const ConvexPolyhedron tetra = tetrahedron();
   const double a = kTetrahedronEdge;
   EXPECT_DOUBLE_EQ(tetra.surface_distance(kTetrahedronCorners[0], kTetrahedronCorners[2]), a);

@@ -1,7 +1,8 @@
 // Properties every geodesic distance field has, checked on generated meshes and, where ../shared/meshes is
-// present, on the real meshes up to 13K faces (6.5K for the checks that need several runs): bounds (Euclidean <= d <= edge paths), 1-Lipschitz along
-// edges, symmetry, invariance under how the same surface is written down, and multi-source = minimum of
-// single sources. Each test runs with the paper's pruning rules on and off.
+// present, on the real meshes up to 13K faces (6.5K for the checks that compare several runs): bounds
+// (Euclidean <= d <= edge paths), 1-Lipschitz along edges, symmetry, invariance under how the same surface
+// is written down, and multi-source = minimum of single sources. Each test runs with the paper's pruning
+// rules on and off.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -80,6 +80,22 @@ double distance_between(const exactgeo::MeshSoup& soup, std::uint32_t a, std::ui
 std::size_t vertex_count(const exactgeo::MeshSoup& soup) { return soup.positions.size() / 3; }
 std::size_t face_count(const exactgeo::MeshSoup& soup) { return soup.triangles.size() / 3; }
 
+std::uint32_t add_vertex(exactgeo::MeshSoup& soup, const Vec3& p) {
+  soup.positions.insert(soup.positions.end(), p.begin(), p.end());
+  return static_cast<std::uint32_t>(vertex_count(soup) - 1);
+}
+
+void add_triangle(exactgeo::MeshSoup& soup, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  soup.triangles.insert(soup.triangles.end(), {a, b, c});
+}
+
+std::uint32_t vertex_at(const exactgeo::MeshSoup& soup, const Vec3& p) {
+  for (std::uint32_t v = 0; v < vertex_count(soup); ++v)
+    if (vertex_position(soup, v) == p) return v;
+  ADD_FAILURE() << "no vertex at (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  return 0;
+}
+
 bool repeats_a_vertex(const exactgeo::MeshSoup& soup, std::size_t face) {
   const std::uint32_t* t = &soup.triangles[3 * face];
   return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
@@ -206,3 +222,7 @@ std::string rule_combination_name(const testing::TestParamInfo<exactgeo::Geodesi
 }
 
 }  // namespace exactgeo_test
+
+void exactgeo::PrintTo(const GeodesicOptions& options, std::ostream* out) {
+  *out << "rule1 " << (options.rule1 ? "on" : "off") << ", rule23 " << (options.rule23 ? "on" : "off");
+}

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <ostream>
 #include <random>
 #include <span>
 #include <string>
@@ -66,6 +67,13 @@ double distance_between(const exactgeo::MeshSoup& soup, std::uint32_t a, std::ui
 std::size_t vertex_count(const exactgeo::MeshSoup& soup);
 std::size_t face_count(const exactgeo::MeshSoup& soup);
 
+// Building soups in tests: add_vertex returns the new vertex's index.
+std::uint32_t add_vertex(exactgeo::MeshSoup& soup, const Vec3& p);
+void add_triangle(exactgeo::MeshSoup& soup, std::uint32_t a, std::uint32_t b, std::uint32_t c);
+
+// The first vertex at exactly position p; a test failure (and vertex 0) if there is none.
+std::uint32_t vertex_at(const exactgeo::MeshSoup& soup, const Vec3& p);
+
 // True if the triangle names one vertex twice; the mesh policy drops such faces.
 bool repeats_a_vertex(const exactgeo::MeshSoup& soup, std::size_t face);
 
@@ -121,3 +129,8 @@ inline constexpr std::array<exactgeo::GeodesicOptions, 4> kAllRuleCombinations =
 std::string rule_combination_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info);
 
 }  // namespace exactgeo_test
+
+namespace exactgeo {
+// How GoogleTest shows a GeodesicOptions parameter, e.g. "rule1 on, rule23 off" (found by argument lookup).
+void PrintTo(const GeodesicOptions& options, std::ostream* out);
+}  // namespace exactgeo
