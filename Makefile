@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: deps build demo test clean
+.PHONY: deps build demo test bench bench-quick clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -18,6 +18,15 @@ demo: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Timings against the other solvers, written to bench/results/ (see bench/README.md).
+bench: build
+	python3 -m pip install -q -r bench/requirements.txt
+	python3 bench/run.py --build-dir $(BUILD_DIR)
+
+bench-quick: build
+	python3 -m pip install -q -r bench/requirements.txt
+	python3 bench/run.py --quick --build-dir $(BUILD_DIR)
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -137,7 +137,7 @@ class VtpEngine {
       drain();
     }
     stats_.peak_windows = lists_.peak_live();
-    stats_.peak_window_bytes = lists_.peak_live() * sizeof(Window);
+    stats_.peak_window_bytes = lists_.arena_bytes();
   }
 
   const std::vector<double>& distances() const { return distance_; }
@@ -226,13 +226,13 @@ class VtpEngine {
       const HalfedgeGeometry& o = mesh_.halfedges[opposite];
       const auto [b0, b1] = cone.part_of_opposite_edge(mesh_, c);
       if (!(b1 - b0 > tolerances_.min_width)) continue;
-      Window w{b0, b1, o.apex_x, -o.apex_y, distance_[v], v, kNone};
+      Window w{b0, b1, o.apex_x, -o.apex_y, distance_[v], v};
       w = to_twin_frame(w, o.length, mesh_.tail(g) != mesh_.tail(opposite));
       if (face_visited_at_[face_of(g)] != kNone) {
-        lists_.append(g, w);
+        lists_.append(g, {&w, 1});
         schedule(g);
       } else {
-        lists_.prepend(g, w);
+        lists_.prepend(g, {&w, 1});
       }
     }
   }
@@ -290,17 +290,17 @@ class VtpEngine {
     if (reversed) std::reverse(windows.begin(), windows.end());  // keep the list ordered along g
 
     if (face_visited_at_[face_of(g)] != kNone) {  // inside the traversed area: keep moving
-      for (const Window& w : windows) lists_.append(g, w);
+      lists_.append(g, windows);
       schedule(g);
     } else if (prime && options_.rule23) {  // Rule 3: PrimeMerge on a new wavefront edge
       merged_.clear();
       lists_.take(g, merged_);
       merge_pruned(merged_, windows, tolerances_);
-      for (const Window& w : merged_) lists_.append(g, w);
+      lists_.append(g, merged_);
     } else if (!reversed) {  // order-free SecondMerge: windows from the side of g's tail go first
-      for (auto it = windows.rbegin(); it != windows.rend(); ++it) lists_.prepend(g, *it);
+      lists_.prepend(g, windows);
     } else {
-      for (const Window& w : windows) lists_.append(g, w);
+      lists_.append(g, windows);
     }
   }
 

@@ -81,7 +81,6 @@ Window cross_to_side(const Window& w, double px, double x0, double x1, double co
   out.py = std::min(w.py * cos_angle - px * sin_angle, 0.0);
   out.sigma = w.sigma;
   out.pseudo_source = w.pseudo_source;
-  out.next = kNone;
   return out;
 }
 

@@ -1,7 +1,11 @@
-// Windows and window lists (paper Section 2): each list lives on a halfedge, its windows in one pool.
+// Windows and window lists (paper Section 2): each list lives on a halfedge, its windows contiguous in one
+// shared arena.
 #pragma once
 
+#include <algorithm>
+#include <bit>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "surface_mesh.hpp"
@@ -16,71 +20,86 @@ struct Window {
   double px, py;
   double sigma;
   std::uint32_t pseudo_source;  // surface vertex the straight rays start from (a source or a bend vertex)
-  std::uint32_t next;           // next window of the same list in the pool, or kNone
 };
 
-// All window lists, as singly linked lists threaded through one pool with a free list: no allocation per
-// window once the pool has grown to the run's peak.
+// All window lists. Each list is one block of the arena, of a power-of-two capacity; freed blocks are
+// reused by size class, so after the first vertices the arena stops growing and a list is read as one run of
+// memory rather than by chasing links.
 class WindowLists {
  public:
   void reset(std::size_t halfedge_count) {
-    head_.assign(halfedge_count, kNone);
-    tail_.assign(halfedge_count, kNone);
-    pool_.clear();
-    free_ = kNone;
+    lists_.assign(halfedge_count, List{});
+    arena_.clear();
+    for (auto& blocks : free_blocks_) blocks.clear();
     live_ = peak_live_ = 0;
   }
-  bool empty(std::uint32_t h) const { return head_[h] == kNone; }
+  bool empty(std::uint32_t h) const { return lists_[h].size == 0; }
 
   // Moves the windows of h's list, in order, to the end of `out`, leaving h's list empty.
   void take(std::uint32_t h, std::vector<Window>& out) {
-    for (std::uint32_t i = head_[h]; i != kNone;) {
-      const std::uint32_t next = pool_[i].next;
-      out.push_back(pool_[i]);
-      release(i);
-      i = next;
-    }
-    head_[h] = tail_[h] = kNone;
+    List& list = lists_[h];
+    const auto begin = arena_.begin() + list.offset;
+    out.insert(out.end(), begin, begin + list.size);
+    live_ -= list.size;
+    release(list);
   }
-  void append(std::uint32_t h, const Window& w) {
-    const std::uint32_t i = allocate(w);
-    if (tail_[h] == kNone) head_[h] = i; else pool_[tail_[h]].next = i;
-    tail_[h] = i;
+  void append(std::uint32_t h, std::span<const Window> windows) {
+    List& list = lists_[h];
+    reserve(list, list.size + static_cast<std::uint32_t>(windows.size()));
+    std::copy(windows.begin(), windows.end(), arena_.begin() + list.offset + list.size);
+    grow_live(list, windows.size());
   }
-  void prepend(std::uint32_t h, const Window& w) {
-    const std::uint32_t i = allocate(w);
-    pool_[i].next = head_[h];
-    head_[h] = i;
-    if (tail_[h] == kNone) tail_[h] = i;
+  void prepend(std::uint32_t h, std::span<const Window> windows) {
+    List& list = lists_[h];
+    reserve(list, list.size + static_cast<std::uint32_t>(windows.size()));
+    const auto begin = arena_.begin() + list.offset;
+    std::copy_backward(begin, begin + list.size, begin + list.size + windows.size());
+    std::copy(windows.begin(), windows.end(), begin);
+    grow_live(list, windows.size());
   }
 
-  std::uint64_t live() const { return live_; }
   std::uint64_t peak_live() const { return peak_live_; }
+  std::uint64_t arena_bytes() const { return arena_.capacity() * sizeof(Window); }
 
  private:
-  std::uint32_t allocate(const Window& w) {
-    std::uint32_t i;
-    if (free_ != kNone) {
-      i = free_;
-      free_ = pool_[i].next;
-      pool_[i] = w;
-    } else {
-      i = static_cast<std::uint32_t>(pool_.size());
-      pool_.push_back(w);
-    }
-    pool_[i].next = kNone;
-    if (++live_ > peak_live_) peak_live_ = live_;
-    return i;
+  struct List {
+    std::uint32_t offset = 0, size = 0, capacity = 0;
+  };
+  static constexpr std::uint32_t kSmallestBlock = 4;
+
+  void reserve(List& list, std::uint32_t needed) {
+    if (needed <= list.capacity) return;
+    const std::uint32_t capacity = std::max(kSmallestBlock, std::bit_ceil(needed));
+    const std::uint32_t offset = allocate(capacity);
+    std::copy(arena_.begin() + list.offset, arena_.begin() + list.offset + list.size, arena_.begin() + offset);
+    const std::uint32_t size = list.size;
+    release(list);
+    list = {offset, size, capacity};
   }
-  void release(std::uint32_t i) {
-    pool_[i].next = free_;
-    free_ = i;
-    --live_;
+  std::uint32_t allocate(std::uint32_t capacity) {
+    auto& blocks = free_blocks_[std::countr_zero(capacity)];
+    if (!blocks.empty()) {
+      const std::uint32_t offset = blocks.back();
+      blocks.pop_back();
+      return offset;
+    }
+    const auto offset = static_cast<std::uint32_t>(arena_.size());
+    arena_.resize(arena_.size() + capacity);
+    return offset;
+  }
+  void release(List& list) {
+    if (list.capacity > 0) free_blocks_[std::countr_zero(list.capacity)].push_back(list.offset);
+    list = List{};
+  }
+  void grow_live(List& list, std::size_t added) {
+    list.size += static_cast<std::uint32_t>(added);
+    live_ += added;
+    peak_live_ = std::max(peak_live_, live_);
   }
 
-  std::vector<std::uint32_t> head_, tail_;
-  std::vector<Window> pool_;
-  std::uint32_t free_ = kNone;
+  std::vector<List> lists_;
+  std::vector<Window> arena_;
+  std::vector<std::uint32_t> free_blocks_[32];
   std::uint64_t live_ = 0, peak_live_ = 0;
 };
 

@@ -27,7 +27,7 @@ struct GeodesicOptions {
 struct GeodesicStats {
   std::uint64_t window_propagations = 0;  // one window across one triangle (a split counts twice)
   std::uint64_t peak_windows = 0;         // most windows alive at once
-  std::uint64_t peak_window_bytes = 0;    // bytes held by window storage at that peak
+  std::uint64_t peak_window_bytes = 0;    // bytes of window storage at its largest (live and reusable)
   std::uint64_t vertex_pops = 0;          // wavefront vertices taken from the priority queue
   std::uint64_t pseudo_source_emissions = 0;  // saddle or boundary vertices that re-emitted windows
   double propagation_seconds = 0.0;       // wall time of the propagation
