@@ -106,16 +106,19 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   const double span = hi - lo;
   std::array<double, 2> roots{};
   int root_count = 0;
-  // The squared equation loses precision when the two distance functions nearly coincide: polish each
-  // root with Newton steps on the difference itself, and keep it only if it stays inside the overlap.
   auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
+  auto sign_of = [&](double x) {
+    const double d = difference(x);
+    return d > tol.prune ? 1 : (d < -tol.prune ? -1 : 0);
+  };
+  const int sign_at_lo = sign_of(0), sign_at_hi = sign_of(span);
+  // The squared equation loses precision when the two distance functions nearly coincide: polish each
+  // root with a Newton step on the difference itself, and keep it only if it stays inside the overlap.
   auto add_root = [&](double x) {
-    for (int step = 0; step < 2 && x > 0 && x < span; ++step) {
-      const double r1 = length(lo + x - first.px, first.py), r2 = length(lo + x - second.px, second.py);
-      const double slope = (lo + x - second.px) / r2 - (lo + x - first.px) / r1;
-      if (!(std::abs(slope) > 1e-12)) break;
-      x -= (second.sigma + r2 - first.sigma - r1) / slope;
-    }
+    if (!(x > 0 && x < span)) return;
+    const double r1 = length(lo + x - first.px, first.py), r2 = length(lo + x - second.px, second.py);
+    const double slope = (lo + x - second.px) / r2 - (lo + x - first.px) / r1;
+    if (std::abs(slope) > 1e-12) x -= (second.sigma + r2 - first.sigma - r1) / slope;
     if (x > 0 && x < span) roots[root_count++] = x;
   };
   const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
@@ -132,19 +135,19 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   if (root_count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
   std::array<double, 4> breaks = {0, roots[0], roots[1], 0};
   breaks[root_count + 1] = span;
-  const int count = root_count + 2;
+  const int pieces = root_count + 1;
 
-  // Sign of (second - first) on each piece, from its midpoint. The first and last pieces must also agree
-  // with the sign at the overlap's end: a root missed near an end would otherwise mislabel a sliver.
+  // Sign of (second - first) on each piece: from the overlap's ends when no root lies between them (ends
+  // of opposite signs mean a missed root: decide nothing), else from each piece's midpoint, where the first
+  // and last pieces must not contradict the sign at the overlap's end, which would betray a missed root.
   std::array<int, 3> sign{};
-  const int pieces = count - 1;
-  auto sign_of = [&](double x) {
-    const double d = difference(x);
-    return d > tol.prune ? 1 : (d < -tol.prune ? -1 : 0);
-  };
-  for (int k = 0; k < pieces; ++k) sign[k] = sign_of(0.5 * (breaks[k] + breaks[k + 1]));
-  if (sign[0] != 0 && sign_of(0) == -sign[0]) sign[0] = 0;
-  if (sign[pieces - 1] != 0 && sign_of(span) == -sign[pieces - 1]) sign[pieces - 1] = 0;
+  if (pieces == 1) {
+    sign[0] = sign_at_lo * sign_at_hi < 0 ? 0 : (sign_at_lo != 0 ? sign_at_lo : sign_at_hi);
+  } else {
+    for (int k = 0; k < pieces; ++k) sign[k] = sign_of(0.5 * (breaks[k] + breaks[k + 1]));
+    if (sign[0] == -sign_at_lo) sign[0] = 0;
+    if (sign[pieces - 1] == -sign_at_hi) sign[pieces - 1] = 0;
+  }
   // Trims from `w` the pieces where it loses (sign == loser), from whichever of its ends lie in the overlap.
   auto trim = [&](Window& w, int loser) {
     const bool starts_in = w.b0 >= lo, ends_in = w.b1 <= hi;
