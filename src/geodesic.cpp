@@ -53,7 +53,7 @@ class ShadowCone {
   // the vertex in these directions reach; b1 <= b0 if none. Two separate parts are merged into one span:
   // a wider window is redundant, never wrong.
   std::pair<double, double> part_of_opposite_edge(const SurfaceMesh& mesh, std::uint32_t c) const {
-    const double corner_angle = std::atan2(mesh.halfedges[c].apex_y, mesh.halfedges[c].apex_x);
+    const double corner_angle = mesh.corner_angle[c];
     const double start = mesh.fan_angle_start[c];
     double lowest = HUGE_VAL, highest = -HUGE_VAL;
     for (int i = 0; i < count_; ++i) {
@@ -75,7 +75,7 @@ class ShadowCone {
     // A ray at angle phi from edge c meets the opposite edge XY at |vX| sin(phi) / sin(phi + angle at X).
     const std::uint32_t opposite = next_halfedge(c);
     const HalfedgeGeometry& o = mesh.halfedges[opposite];
-    const double angle_at_x = std::atan2(o.apex_y, o.apex_x);
+    const double angle_at_x = mesh.corner_angle[opposite];
     const double to_x = mesh.halfedges[c].length;
     auto hit = [&](double phi) {
       if (phi <= 0) return 0.0;
@@ -176,7 +176,7 @@ class VtpEngine {
     const double to_t_x = a.position - g.apex_x, to_t_y = -g.apex_y;
     const double local = std::atan2(std::abs(to_a_x * to_t_y - to_a_y * to_t_x), to_a_x * to_t_x + to_a_y * to_t_y);
     const std::uint32_t corner = prev_halfedge(a.halfedge);  // leaves v towards tail(h)
-    const double corner_angle = std::atan2(mesh_.halfedges[corner].apex_y, mesh_.halfedges[corner].apex_x);
+    const double corner_angle = mesh_.corner_angle[corner];
     const double arrival = mesh_.fan_angle_start[corner] +
                            (mesh_.corner_enters_forward[corner] ? local : corner_angle - local);
     return ShadowCone::behind(arrival, mesh_.fan_total_angle[v], mesh_.fan_closed[v]);

@@ -182,6 +182,7 @@ void split_into_fans(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ver
 void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex_of_corner) {
   const std::uint32_t face_count = s.face_count();
   s.halfedges.resize(3 * std::size_t{face_count});
+  s.corner_angle.resize(3 * std::size_t{face_count});
   std::vector<double> angle_sum(s.vertex_count, 0.0);
   std::vector<std::uint8_t> on_boundary(s.vertex_count, 0);
   std::vector<std::uint8_t> near_degenerate(s.vertex_count, 0);
@@ -212,7 +213,8 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
     for (int i = 0; i < 3; ++i) {
       const HalfedgeGeometry& g = s.halfedges[3 * f + i];
       const std::uint32_t v = s.corner_vertex[3 * f + i];
-      angle_sum[v] += std::atan2(g.apex_y, g.apex_x);
+      s.corner_angle[3 * f + i] = std::atan2(g.apex_y, g.apex_x);
+      angle_sum[v] += s.corner_angle[3 * f + i];
       if (degenerate) near_degenerate[v] = 1;
     }
   }
@@ -264,7 +266,6 @@ void walk_fans(SurfaceMesh& s) {
   s.corner_enters_forward.assign(corner_count, 1);
   s.fan_total_angle.assign(s.vertex_count, 0.0);
   s.fan_closed.assign(s.vertex_count, 1);
-  auto corner_angle = [&](std::uint32_t c) { return std::atan2(s.halfedges[c].apex_y, s.halfedges[c].apex_x); };
   for (std::uint32_t v = 0; v < s.vertex_count; ++v) {
     const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
     // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.
@@ -280,7 +281,7 @@ void walk_fans(SurfaceMesh& s) {
     for (std::uint32_t step = begin; step < end; ++step) {
       s.fan_angle_start[c] = walked;
       s.corner_enters_forward[c] = forward;
-      walked += corner_angle(c);
+      walked += s.corner_angle[c];
       const std::uint32_t exit = forward ? prev_halfedge(c) : c;  // the corner's other edge at v
       const std::uint32_t across = s.twin[exit];
       if (across == kNone) break;

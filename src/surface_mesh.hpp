@@ -44,6 +44,7 @@ struct SurfaceMesh {
   std::vector<std::uint32_t> corner_vertex;   // 3 per face: surface vertex at each corner
   std::vector<std::uint32_t> twin;            // per halfedge: the halfedge across its edge, or kNone
   std::vector<HalfedgeGeometry> halfedges;    // per halfedge
+  std::vector<double> corner_angle;           // per corner (= halfedge leaving it): the angle at its tail
 
   // Corners around each surface vertex (corner c = halfedge index of the halfedge leaving that corner).
   std::vector<std::uint32_t> vertex_corner_offsets;
