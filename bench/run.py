@@ -542,7 +542,7 @@ def write_markdown(path: Path, report: dict) -> None:
         "",
         "## Ratios to exactgeo",
         "",
-        f"First source of each mesh (vertex 0), median of {settings['repeat']} runs. Each cell is "
+        f"First source of each mesh (vertex 0), {runs_text(settings['repeat'])}. Each cell is "
         "**propagation time ÷ exactgeo's** · **peak RSS ÷ exactgeo's**, both from this run; above 1x, exactgeo "
         "is faster or smaller.",
         "",
@@ -599,8 +599,8 @@ def write_markdown(path: Path, report: dict) -> None:
             "",
             "## All sources",
             "",
-            f"Every source of each mesh ({settings['repeat']} runs from the first, {settings['repeat_other']} "
-            "from each other): geometric mean and range of the per-source propagation-time ratio to exactgeo, "
+            f"Every source of each mesh ({runs_text(settings['repeat'])} from the first, "
+            f"{runs_text(settings['repeat_other'])} from each other): geometric mean and range of the per-source propagation-time ratio to exactgeo, "
             "the worst max error, and the reachability disagreements summed over the sources.",
             "",
             "| mesh | solver | sources | propagation ÷ exactgeo: mean (min–max) | worst max error "
@@ -655,6 +655,10 @@ def write_markdown(path: Path, report: dict) -> None:
     path.write_text("\n".join(lines))
 
 
+def runs_text(count: int) -> str:
+    return "1 run" if count == 1 else f"median of {count} runs"
+
+
 def format_count(value) -> str:
     return "—" if value is None else f"{value:,}"
 
@@ -674,15 +678,18 @@ def write_plots(results_dir: Path, report: dict) -> list[Path]:
         return f"{value:g}"
 
     plots = []
-    for key, quantity, format_value in [("propagation_seconds", "propagation time", format_seconds),
-                                        ("peak_rss_bytes", "peak RSS", format_bytes)]:
+    # (record key, what it is, unit the values are plotted in, tick label)
+    quantities = [("propagation_seconds", "propagation time", 1, format_seconds),
+                  ("peak_rss_bytes", "peak RSS", 1024**2, lambda megabytes: f"{megabytes:g} MB")]
+    for key, quantity, unit, format_value in quantities:
         figure, axes = plt.subplots(figsize=(8, 5.5))
         for solver in report["solvers"]:
             points = sorted((r["faces"], r[key]) for r in report["records"]
                             if r["solver"] == solver["name"] and r["source_rank"] == 0 and r["status"] == "ok"
                             and r.get(key))
             if points:
-                faces, values = zip(*points)
+                faces = [face_count for face_count, _ in points]
+                values = [value / unit for _, value in points]
                 axes.plot(faces, values, marker="o", linestyle="-" if solver["exact"] else "--",
                           label=solver["name"])
         axes.set_xscale("log")
