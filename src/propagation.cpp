@@ -45,26 +45,29 @@ double hit_side(double px, double py, double x, double cos_angle, double sin_ang
 // Removes the part of `w` that the vertex at x = 0 with distance d_start, or the vertex at x = length with
 // distance d_end, reaches more cheaply along the edge (Case 12). Returns false if nothing is left.
 // Near the start vertex the excess D_w(x) - d_start - x is non-increasing in x, near the end vertex
-// D_w(x) - d_end - (length - x) is non-decreasing, so each check removes a prefix or a suffix.
+// D_w(x) - d_end - (length - x) is non-decreasing, so each check removes a prefix or a suffix. A whole
+// window goes only when beaten by more than the tolerance; a part of it is cut at the exact tie point, so
+// that windows tying with a vertex path cannot circulate for ever around zero-area faces.
 bool check_with_vertices(Window& w, double length, double d_start, double d_end, const Tolerances& tol) {
+  // A pseudo-source on the edge's line sees the window under a zero angle: only a degenerate (zero-area)
+  // face lets rays run along an edge, and their distances are those of the path through the edge's end.
+  if (!(w.py < -tol.min_width)) return false;
   const double at_b0 = distance_at(w, w.b0), at_b1 = distance_at(w, w.b1);
   if (at_b1 > d_start + w.b1 + tol.prune) return false;
   if (at_b0 > d_end + (length - w.b0) + tol.prune) return false;
+  const double py_squared = w.py * w.py;
   if (at_b0 > d_start + w.b0 + tol.prune) {
-    const double k = d_start + tol.prune - w.sigma;  // solve sigma + r(x) = d_start + tol + x
-    const double denominator = 2 * (w.px + k);
-    if (denominator > 0) {
-      const double tie = (w.px * w.px + w.py * w.py - k * k) / denominator;
-      if (tie > w.b0 && tie < w.b1) w.b0 = tie;
-    }
+    // Solve sigma + r(x) = d_start + x; written without the cancellation of (px^2 + py^2 - k^2) / 2(px + k).
+    const double k = d_start - w.sigma;
+    if (!(w.px + k > 0)) return false;  // r(x) > x + k everywhere: the start vertex wins the whole window
+    const double tie = 0.5 * (w.px - k) + py_squared / (2 * (w.px + k));
+    w.b0 = std::max(w.b0, std::min(tie, w.b1));
   }
   if (at_b1 > d_end + (length - w.b1) + tol.prune) {
-    const double k = d_end + tol.prune + length - w.sigma;  // solve sigma + r(x) = d_end + tol + length - x
-    const double denominator = 2 * (k - w.px);
-    if (denominator > 0) {
-      const double tie = (k * k - w.px * w.px - w.py * w.py) / denominator;
-      if (tie > w.b0 && tie < w.b1) w.b1 = tie;
-    }
+    const double k = d_end + length - w.sigma;  // solve sigma + r(x) = d_end + length - x
+    if (!(k - w.px > 0)) return false;
+    const double tie = 0.5 * (k + w.px) - py_squared / (2 * (k - w.px));
+    w.b1 = std::min(w.b1, std::max(tie, w.b0));
   }
   return w.b1 - w.b0 > tol.min_width;
 }
