@@ -87,69 +87,113 @@ Window cross_to_side(const Window& w, double px, double x0, double x1, double co
   return out;
 }
 
+// The distance a window gives at edge point x, and the cosine of its ray's angle with the edge there.
+struct RayEnd {
+  double distance;
+  double cosine;
+};
+RayEnd ray_end(const Window& w, double x) {
+  const double r = length(x - w.px, w.py);
+  // A ray of zero length (pseudo-source on the edge) has no direction: any cosine in [-1, 1] is possible.
+  return {w.sigma + r, r > 0 ? (x - w.px) / r : std::nan("")};
+}
+
+// True if a function on [0, span] with the given end values and slope within [min_slope, max_slope] stays
+// above `floor` everywhere (NaN slopes prove nothing).
+bool stays_above(double at_start, double at_end, double min_slope, double max_slope, double span, double floor) {
+  if (!(at_start > floor && at_end > floor)) return false;
+  if (min_slope >= 0 || max_slope <= 0) return true;  // monotone: the smaller end is the minimum
+  if (!(max_slope - min_slope > 0)) return false;
+  // Lowest point allowed: where the line falling from the start at min_slope meets the line rising to the
+  // end at max_slope.
+  const double t = (at_start - at_end + max_slope * span) / (max_slope - min_slope);
+  return at_start + min_slope * std::clamp(t, 0.0, span) > floor;
+}
+
 enum class Verdict { keep, trimmed, removed };
 
 // Over the overlap of `first` and `second` (same edge, same side), trims from either window the end
-// pieces where the other is shorter by more than the tolerance; removes a window that is beaten everywhere.
-// Sound for any pair: a point of the overlap is reached by both, so a ray of the loser through it is
+// pieces where the other is shorter by more than the tolerance, or the second window's piece where the two
+// agree to within the tolerance throughout; removes a window that is beaten everywhere. Sound for any pair: a point of the overlap is reached by both, so a ray of the loser through it is
 // beaten by the winner's path to that point followed by the same ray.
 std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const Tolerances& tol) {
   const double lo = std::max(first.b0, second.b0), hi = std::min(first.b1, second.b1);
   if (!(hi - lo > tol.min_width)) return {Verdict::keep, Verdict::keep};
-
-  // Breakpoints where second - first may change sign: roots of the quadratic obtained by squaring
-  // r2 - r1 = alpha twice (x measured from lo for conditioning). Spurious roots only add breakpoints.
-  const double p1x = first.px - lo, p2x = second.px - lo;
-  const double alpha = first.sigma - second.sigma;
-  const double r1sq = p1x * p1x + first.py * first.py, r2sq = p2x * p2x + second.py * second.py;
-  const double a1 = 2 * (p1x - p2x), c1 = r2sq - r1sq - alpha * alpha;
-  const double qa = a1 * a1 - 4 * alpha * alpha;
-  const double qb = 2 * a1 * c1 + 8 * alpha * alpha * p1x;
-  const double qc = c1 * c1 - 4 * alpha * alpha * r1sq;
   const double span = hi - lo;
-  std::array<double, 2> roots{};
-  int root_count = 0;
-  auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
-  auto sign_of = [&](double x) {
-    const double d = difference(x);
-    return d > tol.prune ? 1 : (d < -tol.prune ? -1 : 0);
-  };
-  const int sign_at_lo = sign_of(0), sign_at_hi = sign_of(span);
-  // The squared equation loses precision when the two distance functions nearly coincide: polish each
-  // root with a Newton step on the difference itself, and keep it only if it stays inside the overlap.
-  auto add_root = [&](double x) {
-    if (!(x > 0 && x < span)) return;
-    const double r1 = length(lo + x - first.px, first.py), r2 = length(lo + x - second.px, second.py);
-    const double slope = (lo + x - second.px) / r2 - (lo + x - first.px) / r1;
-    if (std::abs(slope) > 1e-12) x -= (second.sigma + r2 - first.sigma - r1) / slope;
-    if (x > 0 && x < span) roots[root_count++] = x;
-  };
-  const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
-  if (std::abs(qa) * span * span > 1e-14 * scale) {
-    const double disc = qb * qb - 4 * qa * qc;
-    if (disc >= 0) {
-      const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-      add_root(q / qa);
-      if (q != 0) add_root(qc / q);
-    }
-  } else if (qb != 0) {
-    add_root(-qc / qb);
-  }
-  if (root_count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
-  std::array<double, 4> breaks = {0, roots[0], roots[1], 0};
-  breaks[root_count + 1] = span;
-  const int pieces = root_count + 1;
+  auto sign_of_difference = [&](double d) { return d > tol.prune ? 1 : (d < -tol.prune ? -1 : 0); };
+  const RayEnd first_lo = ray_end(first, lo), first_hi = ray_end(first, hi);
+  const RayEnd second_lo = ray_end(second, lo), second_hi = ray_end(second, hi);
+  const double difference_lo = second_lo.distance - first_lo.distance;
+  const double difference_hi = second_hi.distance - first_hi.distance;
+  const int sign_at_lo = sign_of_difference(difference_lo), sign_at_hi = sign_of_difference(difference_hi);
 
-  // Sign of (second - first) on each piece: from the overlap's ends when no root lies between them (ends
-  // of opposite signs mean a missed root: decide nothing), else from each piece's midpoint, where the first
-  // and last pieces must not contradict the sign at the overlap's end, which would betray a missed root.
+  std::array<double, 4> breaks = {0, span, 0, 0};
+  int pieces = 1;
   std::array<int, 3> sign{};
-  if (pieces == 1) {
-    sign[0] = sign_at_lo * sign_at_hi < 0 ? 0 : (sign_at_lo != 0 ? sign_at_lo : sign_at_hi);
+  // Most overlaps are won outright by one window. The slope of second - first is cos(theta2) - cos(theta1),
+  // each cosine increasing along the edge, so it lies in [second_lo.cosine - first_hi.cosine,
+  // second_hi.cosine - first_lo.cosine]: when that bounds the difference away from zero over the whole
+  // overlap, there is no root to look for.
+  const double min_slope = second_lo.cosine - first_hi.cosine, max_slope = second_hi.cosine - first_lo.cosine;
+  if (stays_above(difference_lo, difference_hi, min_slope, max_slope, span, tol.prune)) {
+    sign[0] = 1;
+  } else if (stays_above(-difference_lo, -difference_hi, -max_slope, -min_slope, span, tol.prune)) {
+    sign[0] = -1;
+  } else if (stays_above(difference_lo, difference_hi, min_slope, max_slope, span, -tol.prune) &&
+             stays_above(-difference_lo, -difference_hi, -max_slope, -min_slope, span, -tol.prune)) {
+    // Neither wins anywhere by more than the tolerance: the same wavefront reached the edge twice (around
+    // a flat vertex, say). Either copy gives every distance of the overlap to within the tolerance, and
+    // keeping both would propagate the overlap twice from here on: the second copy gives way.
+    sign[0] = 1;
   } else {
-    for (int k = 0; k < pieces; ++k) sign[k] = sign_of(0.5 * (breaks[k] + breaks[k + 1]));
-    if (sign[0] == -sign_at_lo) sign[0] = 0;
-    if (sign[pieces - 1] == -sign_at_hi) sign[pieces - 1] = 0;
+    // Breakpoints where second - first may change sign: roots of the quadratic obtained by squaring
+    // r2 - r1 = alpha twice (x measured from lo for conditioning). Spurious roots only add breakpoints.
+    const double p1x = first.px - lo, p2x = second.px - lo;
+    const double alpha = first.sigma - second.sigma;
+    const double r1sq = p1x * p1x + first.py * first.py, r2sq = p2x * p2x + second.py * second.py;
+    const double a1 = 2 * (p1x - p2x), c1 = r2sq - r1sq - alpha * alpha;
+    const double qa = a1 * a1 - 4 * alpha * alpha;
+    const double qb = 2 * a1 * c1 + 8 * alpha * alpha * p1x;
+    const double qc = c1 * c1 - 4 * alpha * alpha * r1sq;
+    std::array<double, 2> roots{};
+    int root_count = 0;
+    auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
+    // The squared equation loses precision when the two distance functions nearly coincide: polish each
+    // root with a Newton step on the difference itself, and keep it only if it stays inside the overlap.
+    auto add_root = [&](double x) {
+      if (!(x > 0 && x < span)) return;
+      const double r1 = length(lo + x - first.px, first.py), r2 = length(lo + x - second.px, second.py);
+      const double slope = (lo + x - second.px) / r2 - (lo + x - first.px) / r1;
+      if (std::abs(slope) > 1e-12) x -= (second.sigma + r2 - first.sigma - r1) / slope;
+      if (x > 0 && x < span) roots[root_count++] = x;
+    };
+    const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
+    if (std::abs(qa) * span * span > 1e-14 * scale) {
+      const double disc = qb * qb - 4 * qa * qc;
+      if (disc >= 0) {
+        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+        add_root(q / qa);
+        if (q != 0) add_root(qc / q);
+      }
+    } else if (qb != 0) {
+      add_root(-qc / qb);
+    }
+    if (root_count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
+    breaks = {0, roots[0], roots[1], 0};
+    breaks[root_count + 1] = span;
+    pieces = root_count + 1;
+
+    // Sign of (second - first) on each piece: from the overlap's ends when no root lies between them (ends
+    // of opposite signs mean a missed root: decide nothing), else from each piece's midpoint, where the
+    // first and last pieces must not contradict the sign at the overlap's end, which would betray a missed
+    // root.
+    if (pieces == 1) {
+      sign[0] = sign_at_lo * sign_at_hi < 0 ? 0 : (sign_at_lo != 0 ? sign_at_lo : sign_at_hi);
+    } else {
+      for (int k = 0; k < pieces; ++k) sign[k] = sign_of_difference(difference(0.5 * (breaks[k] + breaks[k + 1])));
+      if (sign[0] == -sign_at_lo) sign[0] = 0;
+      if (sign[pieces - 1] == -sign_at_hi) sign[pieces - 1] = 0;
+    }
   }
   // Trims from `w` the pieces where it loses (sign == loser), from whichever of its ends lie in the overlap.
   auto trim = [&](Window& w, int loser) {
