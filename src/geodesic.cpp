@@ -270,8 +270,8 @@ class VtpEngine {
     stats_.window_propagations += cross_face(incoming_, frame, reach, options_.rule1,
                                              {distance_[a], distance_[b], distance_[c]}, tolerances_, to_ac_, to_bc_);
     if (options_.rule23) {
-      prune_neighbours(to_ac_, tolerances_);
-      prune_neighbours(to_bc_, tolerances_);
+      to_ac_.resize(prune_neighbours(to_ac_, 0, tolerances_));
+      to_bc_.resize(prune_neighbours(to_bc_, 0, tolerances_));
     }
     const bool prime = face_visited_at_[face_of(h)] == iteration_;
     deliver(prev_halfedge(h), to_ac_, a, prime);
@@ -293,10 +293,10 @@ class VtpEngine {
       lists_.append(g, windows);
       schedule(g);
     } else if (prime && options_.rule23) {  // Rule 3: PrimeMerge on a new wavefront edge
-      merged_.clear();
-      lists_.take(g, merged_);
-      merge_pruned(merged_, windows, tolerances_);
-      lists_.append(g, merged_);
+      const std::span<Window> list = lists_.extend(g, windows.size());
+      const std::size_t old_size = list.size() - windows.size();
+      std::copy(windows.begin(), windows.end(), list.begin() + static_cast<std::ptrdiff_t>(old_size));
+      lists_.shrink_to(g, prune_neighbours(list, old_size, tolerances_));
     } else if (!reversed) {  // order-free SecondMerge: windows from the side of g's tail go first
       lists_.prepend(g, windows);
     } else {
@@ -319,7 +319,7 @@ class VtpEngine {
   VertexQueue queue_;
   std::deque<std::uint32_t> pending_;
   std::vector<std::uint32_t> emit_queue_;
-  std::vector<Window> incoming_, to_ac_, to_bc_, merged_;
+  std::vector<Window> incoming_, to_ac_, to_bc_;
 };
 
 }  // namespace

@@ -278,18 +278,11 @@ std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& f, const
   return propagations;
 }
 
-void prune_neighbours(std::vector<Window>& list, const Tolerances& tol) {
-  // The kept windows form a prefix of the list itself: it never grows past the read position.
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < list.size(); ++i) keep_if_not_beaten(list.data(), count, list[i], tol);
-  list.resize(count);
-}
-
-void merge_pruned(std::vector<Window>& merged, std::span<const Window> incoming, const Tolerances& tol) {
-  std::size_t count = merged.size();
-  merged.resize(count + incoming.size());
-  for (const Window& w : incoming) keep_if_not_beaten(merged.data(), count, w, tol);
-  merged.resize(count);
+std::size_t prune_neighbours(std::span<Window> windows, std::size_t already_pruned, const Tolerances& tol) {
+  // The kept windows form a prefix of the span itself: it never grows past the read position.
+  std::size_t count = already_pruned;
+  for (std::size_t i = already_pruned; i < windows.size(); ++i) keep_if_not_beaten(windows.data(), count, windows[i], tol);
+  return count;
 }
 
 }  // namespace exactgeo::detail

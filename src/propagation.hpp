@@ -45,15 +45,14 @@ std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& frame, c
                          const CornerDistances& corners, const Tolerances& tolerances, std::vector<Window>& to_ac,
                          std::vector<Window>& to_bc);
 
-// Rule 2 (paper Section 4.2): walks the list once, checking each window against the windows kept before it
+// Rule 2 (paper Section 4.2): walks the windows once, checking each against the windows kept before it
 // (backtracking while those get removed) and trimming or removing whatever part of either is strictly
-// longer than the other over their overlap. Order of the survivors is kept. `list` must lie on one edge with
-// all pseudo-sources on the same side.
-void prune_neighbours(std::vector<Window>& list, const Tolerances& tolerances);
-
-// Rule 3 (PrimeMerge, paper Section 4.3): appends `incoming` to `merged` (already pruned) and continues
-// the Rule 2 walk across the junction.
-void merge_pruned(std::vector<Window>& merged, std::span<const Window> incoming, const Tolerances& tolerances);
+// longer than the other over their overlap. The survivors are moved, in order, to the front; returns their
+// count. The windows must lie on one edge with all pseudo-sources on the same side. With already_pruned = k
+// the first k windows are taken as pruned among themselves: that is Rule 3 (PrimeMerge, paper Section 4.3),
+// which appends a newly crossed list to the list already on the edge and continues the walk across the
+// junction.
+std::size_t prune_neighbours(std::span<Window> windows, std::size_t already_pruned, const Tolerances& tolerances);
 
 // Re-expresses a window on an edge in the frame of the halfedge on the other side of that edge: x runs
 // from the same end (`reversed` false) or from the other end (true); the pseudo-source stays below.

@@ -58,6 +58,20 @@ class WindowLists {
     grow_live(list, windows.size());
   }
 
+  // Grows h's list by `added` windows at its end (left for the caller to fill) and returns the whole list,
+  // for work in place; shrink_to gives back what that work removed.
+  std::span<Window> extend(std::uint32_t h, std::size_t added) {
+    List& list = lists_[h];
+    reserve(list, list.size + static_cast<std::uint32_t>(added));
+    grow_live(list, added);
+    return {arena_.data() + list.offset, list.size};
+  }
+  void shrink_to(std::uint32_t h, std::size_t size) {
+    List& list = lists_[h];
+    live_ -= list.size - size;
+    list.size = static_cast<std::uint32_t>(size);
+  }
+
   std::uint64_t peak_live() const { return peak_live_; }
   std::uint64_t arena_bytes() const { return arena_.capacity() * sizeof(Window); }
 
