@@ -18,6 +18,8 @@ demo: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	python3 -m pip install -q -r bench/requirements-test.txt
+	python3 -m pytest -q bench
 
 # Timings against the other solvers, written to bench/results/ (see bench/README.md).
 bench: build

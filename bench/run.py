@@ -96,7 +96,7 @@ class ExactgeoSolver(BinarySolver):
 
     def read_stats(self, stats):
         data = json.loads(stats.read_text())
-        keys = ["window_propagations", "peak_windows", "peak_window_bytes", "vertex_pops",
+        keys = ["read_seconds", "window_propagations", "peak_windows", "peak_window_bytes", "vertex_pops",
                 "pseudo_source_emissions"]
         return {
             "build_seconds": data["build_seconds"],
@@ -759,8 +759,11 @@ def parse_args(argv=None):
     args.timeout = args.timeout or (60.0 if quick else 600.0)
     if args.memory_limit_gb is None:
         args.memory_limit_gb = round(0.75 * machine_info()["memory_bytes"] / kGiB, 1)
-    args.exactgeo = args.exactgeo or args.build_dir / "cli" / "exactgeo"
-    args.cgal_driver = args.cgal_driver or args.build_dir / "bench" / "exactgeo_cgal_driver"
+    # Runs start in their own directories: every path must survive a change of working directory.
+    for key in ("build_dir", "mesh_dir", "work_dir", "results_dir"):
+        setattr(args, key, getattr(args, key).resolve())
+    args.exactgeo = (args.exactgeo or args.build_dir / "cli" / "exactgeo").resolve()
+    args.cgal_driver = (args.cgal_driver or args.build_dir / "bench" / "exactgeo_cgal_driver").resolve()
     max_faces = dict(kDefaultMaxFaces)
     for item in args.max_faces:
         name, _, count = item.partition("=")

@@ -1,0 +1,19 @@
+"""Tests of the benchmark runner's command line (python3 -m pytest bench)."""
+
+import os
+
+from run import parse_args
+
+
+def test_relative_paths_become_absolute_so_runs_in_other_directories_find_the_binaries(tmp_path):
+    previous = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        args = parse_args(["--build-dir", "build", "--work-dir", "work", "--results-dir", "results"])
+    finally:
+        os.chdir(previous)
+    assert args.build_dir == tmp_path / "build"
+    assert args.exactgeo == tmp_path / "build" / "cli" / "exactgeo"
+    assert args.cgal_driver == tmp_path / "build" / "bench" / "exactgeo_cgal_driver"
+    for path in (args.work_dir, args.results_dir, args.mesh_dir):
+        assert path.is_absolute()
