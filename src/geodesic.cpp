@@ -255,24 +255,21 @@ class VtpEngine {
 
   // Propagates the list entering face(h) through h across that face (paper Section 4).
   void cross(std::uint32_t h) {
-    incoming_.clear();
-    lists_.take(h, incoming_);
-    if (incoming_.empty()) return;
+    // Read in place: nothing below changes the lists until this one is cleared.
+    const std::span<const Window> incoming = lists_.view(h);
+    if (incoming.empty()) return;
     const HalfedgeGeometry& g = mesh_.halfedges[h];
     const FaceFrame frame{g.length, g.apex_x, g.apex_y, mesh_.halfedges[prev_halfedge(h)].length,
                           mesh_.halfedges[next_halfedge(h)].length};
     const std::uint32_t a = mesh_.tail(h), b = mesh_.head(h), c = mesh_.apex(h);
-    const ApexReach reach = reach_apex(incoming_, frame);
-    relax(c, reach.distance, incoming_[reach.window].pseudo_source, {h, reach.separating_point});
+    const ApexReach reach = reach_apex(incoming, frame, splits_);
+    relax(c, reach.distance, incoming[reach.window].pseudo_source, {h, reach.separating_point});
 
     to_ac_.clear();
     to_bc_.clear();
-    stats_.window_propagations += cross_face(incoming_, frame, reach, options_.rule1,
+    stats_.window_propagations += cross_face(incoming, splits_, frame, reach, options_.rule1,
                                              {distance_[a], distance_[b], distance_[c]}, tolerances_, to_ac_, to_bc_);
-    if (options_.rule23) {
-      to_ac_.resize(prune_neighbours(to_ac_, 0, tolerances_));
-      to_bc_.resize(prune_neighbours(to_bc_, 0, tolerances_));
-    }
+    lists_.clear(h);
     const bool prime = face_visited_at_[face_of(h)] == iteration_;
     deliver(prev_halfedge(h), to_ac_, a, prime);
     deliver(next_halfedge(h), to_bc_, b, prime);
@@ -289,14 +286,20 @@ class VtpEngine {
     for (Window& w : windows) w = to_twin_frame(w, length, reversed);
     if (reversed) std::reverse(windows.begin(), windows.end());  // keep the list ordered along g
 
-    if (face_visited_at_[face_of(g)] != kNone) {  // inside the traversed area: keep moving
-      lists_.append(g, windows);
-      schedule(g);
-    } else if (prime && options_.rule23) {  // Rule 3: PrimeMerge on a new wavefront edge
+    const bool inside = face_visited_at_[face_of(g)] != kNone;
+    if (!inside && prime && options_.rule23) {
+      // Rule 3: PrimeMerge on a new wavefront edge. The Rule 2 walk over the crossed windows continues from
+      // the list already there, so it prunes them among themselves and across the junction in one pass.
       const std::span<Window> list = lists_.extend(g, windows.size());
       const std::size_t old_size = list.size() - windows.size();
       std::copy(windows.begin(), windows.end(), list.begin() + static_cast<std::ptrdiff_t>(old_size));
       lists_.shrink_to(g, prune_neighbours(list, old_size, tolerances_));
+      return;
+    }
+    if (options_.rule23) windows.resize(prune_neighbours(windows, 0, tolerances_));  // Rule 2
+    if (inside) {  // inside the traversed area: keep moving
+      lists_.append(g, windows);
+      schedule(g);
     } else if (!reversed) {  // order-free SecondMerge: windows from the side of g's tail go first
       lists_.prepend(g, windows);
     } else {
@@ -319,7 +322,8 @@ class VtpEngine {
   VertexQueue queue_;
   std::deque<std::uint32_t> pending_;
   std::vector<std::uint32_t> emit_queue_;
-  std::vector<Window> incoming_, to_ac_, to_bc_;
+  std::vector<Window> to_ac_, to_bc_;
+  std::vector<double> splits_;
 };
 
 }  // namespace

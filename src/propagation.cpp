@@ -12,22 +12,15 @@ double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
 
 double distance_at(const Window& w, double x) { return w.sigma + length(x - w.px, w.py); }
 
+// Whether sqrt(dx^2 + dy_squared) > bound, without the square root (bound may be +inf).
+bool longer_than(double dx, double dy_squared, double bound) { return bound < 0 || dx * dx + dy_squared > bound * bound; }
+
 // Where the line from the pseudo-source through C meets AB (paper Section 4.1). When both lie on AB's line
 // (a flat triangle and a pseudo-source on the edge) every ray runs along AB; any split point is as good.
 double apex_split(const Window& w, const FaceFrame& f) {
   const double rise = f.apex_y - w.py;
   if (!(rise > 0)) return w.b1;
   return w.px + (f.apex_x - w.px) * (-w.py / rise);
-}
-
-// Shortest distance from the pseudo-source to C through [b0, b1]: straight if C is visible through the
-// window, otherwise bent at the nearer endpoint. Also returns where that path crosses AB.
-std::pair<double, double> distance_to_apex(const Window& w, const FaceFrame& f) {
-  const double split = apex_split(w, f);
-  if (split >= w.b0 && split <= w.b1)
-    return {w.sigma + length(f.apex_x - w.px, f.apex_y - w.py), split};
-  const double end = split < w.b0 ? w.b0 : w.b1;
-  return {distance_at(w, end) + length(f.apex_x - end, f.apex_y), end};
 }
 
 // A ray from (px, py) through (x, 0) continues across the triangle; returns where it meets the edge that
@@ -52,18 +45,19 @@ bool check_with_vertices(Window& w, double length, double d_start, double d_end,
   // A pseudo-source on the edge's line sees the window under a zero angle: only a degenerate (zero-area)
   // face lets rays run along an edge, and their distances are those of the path through the edge's end.
   if (!(w.py < -tol.min_width)) return false;
-  const double at_b0 = distance_at(w, w.b0), at_b1 = distance_at(w, w.b1);
-  if (at_b1 > d_start + w.b1 + tol.prune) return false;
-  if (at_b0 > d_end + (length - w.b0) + tol.prune) return false;
+  // Most windows are beaten nowhere: each test compares squared lengths, so a kept window costs no sqrt.
   const double py_squared = w.py * w.py;
-  if (at_b0 > d_start + w.b0 + tol.prune) {
+  auto exceeds = [&](double x, double bound) { return longer_than(x - w.px, py_squared, bound - w.sigma); };
+  if (exceeds(w.b1, d_start + w.b1 + tol.prune)) return false;
+  if (exceeds(w.b0, d_end + (length - w.b0) + tol.prune)) return false;
+  if (exceeds(w.b0, d_start + w.b0 + tol.prune)) {
     // Solve sigma + r(x) = d_start + x; written without the cancellation of (px^2 + py^2 - k^2) / 2(px + k).
     const double k = d_start - w.sigma;
     if (!(w.px + k > 0)) return false;  // r(x) > x + k everywhere: the start vertex wins the whole window
     const double tie = 0.5 * (w.px - k) + py_squared / (2 * (w.px + k));
     w.b0 = std::max(w.b0, std::min(tie, w.b1));
   }
-  if (at_b1 > d_end + (length - w.b1) + tol.prune) {
+  if (exceeds(w.b1, d_end + (length - w.b1) + tol.prune)) {
     const double k = d_end + length - w.sigma;  // solve sigma + r(x) = d_end + length - x
     if (!(k - w.px > 0)) return false;
     const double tie = 0.5 * (k + w.px) - py_squared / (2 * (k - w.px));
@@ -228,16 +222,25 @@ void keep_if_not_beaten(Window* kept, std::size_t& count, Window incoming, const
 
 }  // namespace
 
-ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame) {
+ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::vector<double>& splits) {
+  // Two passes, so that the divisions and square roots of different windows overlap in the pipeline
+  // instead of queuing behind the running minimum.
+  splits.resize(list.size());
+  for (std::size_t i = 0; i < list.size(); ++i) splits[i] = apex_split(list[i], frame);
   ApexReach best{HUGE_VAL, kNone, 0};
   for (std::uint32_t i = 0; i < list.size(); ++i) {
-    const auto [distance, crossing] = distance_to_apex(list[i], frame);
+    // The shortest path to C through the window: straight if C is visible through it (then the clamped
+    // split point lies on the straight line), otherwise bent at the nearer end.
+    const Window& w = list[i];
+    const double crossing = std::clamp(splits[i], w.b0, w.b1);
+    const double distance = w.sigma + length(crossing - w.px, w.py) + length(frame.apex_x - crossing, frame.apex_y);
     if (distance < best.distance) best = {distance, i, crossing};
   }
   return best;
 }
 
-std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& f, const ApexReach& reach, bool rule1,
+std::uint64_t cross_face(std::span<const Window> list, std::span<const double> splits, const FaceFrame& f,
+                         const ApexReach& reach, bool rule1,
                          const CornerDistances& corners, const Tolerances& tol, std::vector<Window>& to_ac,
                          std::vector<Window>& to_bc) {
   const double length_ac_frame = length(f.apex_x, f.apex_y);
@@ -248,13 +251,13 @@ std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& f, const
                sin_b = length_bc_frame > 0 ? f.apex_y / length_bc_frame : 0;
   std::uint64_t propagations = 0;
   const std::size_t bc_begin = to_bc.size();
-  for (const Window& w : list) {
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const Window& w = list[i];
     // Rays left of the split point reach AC, rays right of it reach BC. Rule 1 (paper Proposition 4.1, in a
     // form that is sound for every ray): a ray entering left of the list's separating point s that would
     // reach BC must cross w_s's path s -> C inside the triangle, where w_s's path is no longer (else this
     // window would reach C more cheaply than w_s); likewise for rays entering right of s that would reach AC.
-    const double split = apex_split(w, f);
-    double left_end = std::min(w.b1, split), right_start = std::max(w.b0, split);
+    double left_end = std::min(w.b1, splits[i]), right_start = std::max(w.b0, splits[i]);
     if (rule1) {
       left_end = std::min(left_end, reach.separating_point);
       right_start = std::max(right_start, reach.separating_point);

@@ -30,18 +30,21 @@ struct ApexReach {
   std::uint32_t window;  // index into the list
   double separating_point;
 };
-ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame);
+// Also fills `splits` with each window's own split point: where the line from its pseudo-source through C
+// meets AB (rays left of it head for AC, rays right of it for BC).
+ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::vector<double>& splits);
 
 // Distances known at the vertices of the triangle, for checking crossed windows against them.
 struct CornerDistances {
   double a, b, c;
 };
 
-// Crosses every window of `list` (on AB) into the triangle and appends the parts leaving through AC to
+// Crosses every window of `list` (on AB, with the split points from reach_apex) into the triangle and appends the parts leaving through AC to
 // `to_ac` (frame: A at the origin, x along AC, B's side at y < 0) and through BC to `to_bc` (frame: B at the
 // origin, x along BC), dropping parts that Rule 1 (if `rule1`) or the vertex check shows redundant.
 // Returns the number of window propagations performed.
-std::uint64_t cross_face(std::span<const Window> list, const FaceFrame& frame, const ApexReach& reach, bool rule1,
+std::uint64_t cross_face(std::span<const Window> list, std::span<const double> splits, const FaceFrame& frame,
+                         const ApexReach& reach, bool rule1,
                          const CornerDistances& corners, const Tolerances& tolerances, std::vector<Window>& to_ac,
                          std::vector<Window>& to_bc);
 

@@ -35,13 +35,15 @@ class WindowLists {
   }
   bool empty(std::uint32_t h) const { return lists_[h].size == 0; }
 
-  // Moves the windows of h's list, in order, to the end of `out`, leaving h's list empty.
-  void take(std::uint32_t h, std::vector<Window>& out) {
-    List& list = lists_[h];
-    const auto begin = arena_.begin() + list.offset;
-    out.insert(out.end(), begin, begin + list.size);
-    live_ -= list.size;
-    release(list);
+  // The windows of h's list, in order; valid until the lists are next changed.
+  std::span<const Window> view(std::uint32_t h) const {
+    const List& list = lists_[h];
+    return {arena_.data() + list.offset, list.size};
+  }
+  // Empties h's list, giving its block back for reuse.
+  void clear(std::uint32_t h) {
+    live_ -= lists_[h].size;
+    release(lists_[h]);
   }
   void append(std::uint32_t h, std::span<const Window> windows) {
     List& list = lists_[h];
