@@ -45,7 +45,7 @@ kPredictionMargin = 0.75
 kGiB = 1024**3
 
 # Solvers that would take hours or more memory than the machine has above these sizes (--max-faces).
-kDefaultMaxFaces = {"cgal": 200_000, "libigl": 150_000}
+kDefaultMaxFaces = {"cgal": 400_000, "libigl": 150_000}
 
 
 # ---------------------------------------------------------------------------------------------- solvers
@@ -149,7 +149,7 @@ def make_solvers(args) -> list[Solver]:
         ExactgeoSolver("exactgeo", "VTP, the `exactgeo distance` CLI", True,
                        executable=args.exactgeo, build_hint="build with CMake first"),
         CgalSolver("cgal", "CGAL's Surface_mesh_shortest_path (Xin-Wang, ICH family) through bench/cgal_driver.cpp",
-                   True, size_limit_reason="it needs ~11 GB at 400K faces",
+                   True, size_limit_reason="it needs ~11 GB at 400K faces and about 4x that at 1.6M",
                    executable=args.cgal_driver, build_hint="built when CMake finds libcgal-dev"),
         PeerSolver("pygeodesic", "Kirsanov's MMP from PyPI pygeodesic", True, module="pygeodesic.geodesic",
                    package="pygeodesic"),

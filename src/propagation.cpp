@@ -41,7 +41,7 @@ double hit_side(double px, double py, double x, double cos_angle, double sin_ang
 // D_w(x) - d_end - (length - x) is non-decreasing, so each check removes a prefix or a suffix. A whole
 // window goes only when beaten by more than the tolerance; a part of it is cut at the exact tie point, so
 // that windows tying with a vertex path cannot circulate for ever around zero-area faces.
-bool check_with_vertices(Window& w, double length, double d_start, double d_end, const Tolerances& tol) {
+[[gnu::always_inline]] inline bool check_with_vertices(Window& w, double length, double d_start, double d_end, const Tolerances& tol) {
   // A pseudo-source on the edge's line sees the window under a zero angle: only a degenerate (zero-area)
   // face lets rays run along an edge, and their distances are those of the path through the edge's end.
   if (!(w.py < -tol.min_width)) return false;
@@ -68,7 +68,7 @@ bool check_with_vertices(Window& w, double length, double d_start, double d_end,
 
 // Crosses the part [x0, x1] of `w` to the side leaving the origin at the given angle. The frame is AB's, or
 // its mirror image (x -> length - x) for the side BC.
-Window cross_to_side(const Window& w, double px, double x0, double x1, double cos_angle, double sin_angle,
+[[gnu::always_inline]] inline Window cross_to_side(const Window& w, double px, double x0, double x1, double cos_angle, double sin_angle,
                      double side_length) {
   Window out;
   out.b0 = hit_side(px, w.py, x0, cos_angle, sin_angle, side_length);
