@@ -632,6 +632,8 @@ def write_markdown(path: Path, report: dict) -> None:
                 lines.append(f"| {mesh['name']} | {heading(solver)} | {len(mine)} | {ratio_text} | {worst} "
                              f"| {disagreements:,} |")
 
+    lines += scaling_lines(report)
+
     versions = ", ".join(f"{name} {version}" for name, version in software["packages"].items() if version)
     lines += ["", "## Solvers", ""]
     lines += [f"- **{solver['name']}**: {solver['label']}." for solver in solvers]
@@ -653,6 +655,66 @@ def write_markdown(path: Path, report: dict) -> None:
         "",
     ]
     path.write_text("\n".join(lines))
+
+
+def log_log_slope(points: list[tuple[float, float]]) -> float | None:
+    """Least-squares slope of log(y) against log(x): the exponent k of y ~ x^k."""
+    points = [(math.log(x), math.log(y)) for x, y in points if x and y]
+    if len(points) < 2:
+        return None
+    mean_x = sum(x for x, _ in points) / len(points)
+    mean_y = sum(y for _, y in points) / len(points)
+    spread = sum((x - mean_x) ** 2 for x, _ in points)
+    return sum((x - mean_x) * (y - mean_y) for x, y in points) / spread if spread else None
+
+
+def scaling_lines(report: dict) -> list[str]:
+    """How each solver's propagation time and peak RSS grow with the face count, first source of each mesh."""
+    faces = {mesh["name"]: mesh["faces"] for mesh in report["meshes"]}
+    lines = [
+        "",
+        "## Scaling",
+        "",
+        "Exponent k of a least-squares fit `y ~ faces^k` over every mesh a solver finished (first source), and "
+        "the meshes it spans. Peak RSS includes each process's fixed start-up (Python and numpy for the peers), "
+        "which flattens the memory exponent on small meshes.",
+        "",
+        "| solver | meshes | faces | time exponent | memory exponent |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for solver in report["solvers"]:
+        mine = [r for r in report["records"] if r["solver"] == solver["name"] and r["source_rank"] == 0
+                and r["status"] == "ok" and r["mesh"] in faces]
+        if not mine:
+            continue
+        sizes = sorted(faces[r["mesh"]] for r in mine)
+        time_slope = log_log_slope([(faces[r["mesh"]], r["propagation_seconds"]) for r in mine])
+        memory_slope = log_log_slope([(faces[r["mesh"]], r["peak_rss_bytes"]) for r in mine])
+        text = lambda slope: "—" if slope is None else f"{slope:.2f}"
+        lines.append(f"| {solver['name']} | {len(mine)} | {sizes[0]:,}–{sizes[-1]:,} | {text(time_slope)} "
+                     f"| {text(memory_slope)} |")
+
+    # One shape at growing resolution: each subdivision has 4x the faces of the mesh before it.
+    family = [name for name in ["nefertiti", *kSubdivided] if name in faces]
+    if len(family) > 1:
+        lines += [
+            "",
+            "One shape at growing resolution (each mesh has 4x the faces of the one before): propagation time "
+            "and peak RSS.",
+            "",
+            "| solver | " + " | ".join(f"{name} ({faces[name]:,})" for name in family) + " |",
+            "|---|" + "---:|" * len(family),
+        ]
+        for solver in report["solvers"]:
+            cells = []
+            for name in family:
+                r = next((r for r in report["records"] if r["solver"] == solver["name"] and r["mesh"] == name
+                          and r["source_rank"] == 0), None)
+                ok = r is not None and r["status"] == "ok"
+                cells.append(f"{format_seconds(r['propagation_seconds'])} · {format_bytes(r['peak_rss_bytes'])}"
+                             if ok else (r["status"] if r else "—"))
+            lines.append(f"| {solver['name']} | " + " | ".join(cells) + " |")
+    return lines
 
 
 def runs_text(count: int) -> str:
