@@ -323,6 +323,7 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
   std::vector<std::uint32_t> input_vertex_of_corner;
   input_vertex_of_corner.reserve(triangles.size());
   std::vector<std::uint8_t> used(vertex_count, 0);
+  s->input_face_to_surface.assign(triangles.size() / 3, kNone);
   for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
     std::array<std::uint32_t, 3> v = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]};
     if (options.weld_duplicate_positions)
@@ -331,6 +332,8 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
       ++report.faces_repeating_a_vertex;
       continue;
     }
+    s->input_face_to_surface[f] = static_cast<std::uint32_t>(input_vertex_of_corner.size() / 3);
+    s->surface_face_to_input.push_back(static_cast<std::uint32_t>(f));
     input_vertex_of_corner.insert(input_vertex_of_corner.end(), v.begin(), v.end());
     for (std::uint32_t x : {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]}) used[x] = 1;
   }

@@ -21,6 +21,9 @@ inline constexpr double kMinWindowWidth = 1e-13;
 // a pseudo-source re-emits windows only when its distance drops by more than this.
 inline constexpr double kReemitTolerance = 1e-12;
 
+// Path tracing snaps a point to a vertex, or ends a piece at its pseudo-source, within this distance.
+inline constexpr double kPathSnapTolerance = 1e-10;
+
 // A face whose doubled area is below this times its longest edge squared counts as degenerate.
 inline constexpr double kDegenerateAreaRatio = 1e-12;
 

@@ -6,4 +6,5 @@
 #include "exactgeo/io.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/shapes.hpp"
+#include "exactgeo/surface_point.hpp"
 #include "exactgeo/version.hpp"

@@ -1,6 +1,7 @@
 // Exact geodesic distances on a triangle mesh with the VTP algorithm (Qin et al., SIGGRAPH 2016).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -8,8 +9,14 @@
 #include <vector>
 
 #include "exactgeo/mesh.hpp"
+#include "exactgeo/surface_point.hpp"
 
 namespace exactgeo {
+
+namespace detail {
+class VtpEngine;
+struct SourceSite;
+}
 
 enum class Algorithm {
   vtp,  // vertex-sorted wavefront, order-free secondary merge (the paper's final algorithm)
@@ -22,6 +29,9 @@ struct GeodesicOptions {
   bool rule1 = true;
   // Paper Sections 4.2-4.3, Rules 2 and 3: pairwise checks between neighbouring windows of a list.
   bool rule23 = true;
+  // Distances above this are not computed: such vertices and targets get +inf, and the wavefront stops
+  // there, so the work shrinks with the radius. Must not be negative or NaN.
+  double max_distance = std::numeric_limits<double>::infinity();
 };
 
 struct GeodesicStats {
@@ -33,21 +43,85 @@ struct GeodesicStats {
   double propagation_seconds = 0.0;       // wall time of the propagation
 };
 
+inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();
+
 struct GeodesicResult {
-  std::vector<double> distances;             // per input vertex; +inf where unreachable
-  std::vector<std::uint32_t> nearest_source;  // per input vertex: index into the sources; UINT32_MAX if unreachable
+  // Per input vertex: the distance to the nearest source, +inf where unreachable or beyond the cut-off
+  // (max_distance, or the farthest target when targets are given).
+  std::vector<double> distances;
+  std::vector<std::uint32_t> nearest_source;  // per input vertex: index into the sources, kNoSource if +inf
+  std::vector<double> target_distances;       // per target, likewise
+  std::vector<std::uint32_t> target_nearest_source;
   GeodesicStats stats;
 };
 
-inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();
+// Where a point of a path lies: on an input vertex, on the edge between two input vertices at parameter t
+// (the point (1 - t) * from + t * to), or inside an input triangle.
+struct PathPointLocation {
+  enum class Kind { vertex, edge, face } kind = Kind::vertex;
+  std::uint32_t vertex = 0;                   // Kind::vertex
+  std::uint32_t from = 0, to = 0;             // Kind::edge
+  double t = 0;                               // Kind::edge
+  SurfacePoint face_point;                    // Kind::face
+};
 
-// Distances from one source vertex (an input vertex index). Throws exactgeo::Error(invalid_argument)
-// if the index is out of range or names a vertex used by no face.
-GeodesicResult geodesic_distance(const Mesh& mesh, std::uint32_t source_vertex,
-                                 const GeodesicOptions& options = {});
+// A shortest path from a source to a point: straight inside every face it crosses, bending only at
+// vertices. Empty (and length +inf) if the point is unreachable.
+struct GeodesicPath {
+  std::vector<std::array<double, 3>> points;   // from the source to the point
+  std::vector<PathPointLocation> locations;    // one per point
+  double length = std::numeric_limits<double>::infinity();
+  std::uint32_t source = kNoSource;            // index into the sources
+};
+
+// A reusable solver: owns the engine's buffers, so repeated runs on one mesh allocate nothing new, and
+// answers path queries about its last run. The mesh must outlive the solver.
+class GeodesicSolver {
+ public:
+  explicit GeodesicSolver(const Mesh& mesh);
+  ~GeodesicSolver();
+  GeodesicSolver(GeodesicSolver&&) noexcept;
+  GeodesicSolver& operator=(GeodesicSolver&&) noexcept;
+
+  // Propagates from the sources; each input vertex gets the distance to the nearest one. With targets,
+  // their distances are computed too and the propagation stops as soon as they are final: vertex distances
+  // are then exact up to the farthest target and +inf beyond. Throws exactgeo::Error(invalid_argument)
+  // naming the offending source, target or option.
+  const GeodesicResult& solve(std::span<const SurfacePoint> sources, std::span<const SurfacePoint> targets = {},
+                              const GeodesicOptions& options = {});
+  // Sources at input vertices. A vertex that the mesh policy split into several surface copies is a
+  // source at every copy.
+  const GeodesicResult& solve(std::span<const std::uint32_t> source_vertices,
+                              std::span<const SurfacePoint> targets = {}, const GeodesicOptions& options = {});
+  const GeodesicResult& result() const { return result_; }
+
+  // The shortest path of the last run from its nearest source to input vertex `vertex`, or to target
+  // `target` (an index into the last run's targets).
+  GeodesicPath path_to_vertex(std::uint32_t vertex) const;
+  GeodesicPath path_to_target(std::size_t target) const;
+
+ private:
+  const GeodesicResult& run(std::span<const detail::SourceSite> sites, std::span<const SurfacePoint> targets,
+                            const GeodesicOptions& options);
+  // The one-off queries hand over the solver's result instead of copying it.
+  friend GeodesicResult geodesic_distance(const Mesh&, std::span<const std::uint32_t>, const GeodesicOptions&);
+  friend GeodesicResult geodesic_distance(const Mesh&, std::span<const SurfacePoint>, const GeodesicOptions&);
+
+  const Mesh* mesh_;
+  std::unique_ptr<detail::VtpEngine> engine_;
+  GeodesicResult result_;
+};
+
+// One-off queries. Distances from one source vertex (an input vertex index). Throws
+// exactgeo::Error(invalid_argument) if the index is out of range or names a vertex used by no face.
+GeodesicResult geodesic_distance(const Mesh& mesh, std::uint32_t source_vertex, const GeodesicOptions& options = {});
 
 // Distances to the nearest of several source vertices, and which source that is.
 GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                                 const GeodesicOptions& options = {});
+
+// Distances to the nearest of several sources anywhere on the surface.
+GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const SurfacePoint> sources,
                                  const GeodesicOptions& options = {});
 
 }  // namespace exactgeo

@@ -47,6 +47,7 @@ struct RecordDuplicatedPoints : CGAL::Polygon_mesh_processing::Default_orientati
 struct OrientedSoup {
   std::vector<Point> points;
   std::vector<Triangle> triangles;
+  std::vector<std::size_t> triangle_of_input;  // input triangle -> kept triangle (= Surface_mesh face)
   std::vector<std::uint32_t> input_vertex_of_point;
   std::size_t duplicated_points = 0;
 };
@@ -74,9 +75,11 @@ OrientedSoup orient_soup(std::span<const double> positions, std::span<const std:
   // vertices (CGAL issue #5280), and they have no distance anyway.
   constexpr std::size_t kNoPoint = std::numeric_limits<std::size_t>::max();
   std::vector<std::size_t> point_of_input_vertex(vertex_count, kNoPoint);
+  soup.triangle_of_input.assign(triangles.size() / 3, kNoPoint);
   for (std::size_t t = 0; t < triangles.size(); t += 3) {
     const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
     if (a == b || b == c || c == a) continue;  // repeats a vertex: not a triangle
+    soup.triangle_of_input[t / 3] = soup.triangles.size();
     Triangle triangle;
     for (int corner = 0; corner < 3; ++corner) {
       const std::uint32_t v = triangles[t + corner];
@@ -91,20 +94,42 @@ OrientedSoup orient_soup(std::span<const double> positions, std::span<const std:
   }
 
   const std::size_t used_points = soup.points.size();
+  const std::size_t kept_triangles = soup.triangles.size();
   RecordDuplicatedPoints visitor;
   visitor.input_vertex_of_point = &soup.input_vertex_of_point;
   CGAL::Polygon_mesh_processing::orient_polygon_soup(soup.points, soup.triangles,
                                                      CGAL::parameters::visitor(visitor));
+  if (soup.triangles.size() != kept_triangles) throw std::logic_error("orient_polygon_soup dropped a triangle");
   soup.duplicated_points = soup.points.size() - used_points;
   if (soup.input_vertex_of_point.size() != soup.points.size())
     throw std::logic_error("orient_polygon_soup: a duplicated point was not reported");
   return soup;
 }
 
+// The CGAL face location of a point given on an input triangle. CGAL's k-th barycentric coordinate belongs
+// to the source vertex of the k-th halfedge from halfedge(face); the kept triangle may have been reoriented
+// and its corners split into copies, so corners are matched by the input vertex they stand for.
+ShortestPath::Face_location face_location(const SurfaceMesh& mesh, const OrientedSoup& soup,
+                                          std::span<const std::uint32_t> triangles, const FacePoint& point) {
+  if (point.face >= soup.triangle_of_input.size() ||
+      soup.triangle_of_input[point.face] == std::numeric_limits<std::size_t>::max())
+    throw std::invalid_argument("cgal_geodesic_distances: point on a missing or dropped triangle");
+  const SurfaceMesh::Face_index face(static_cast<SurfaceMesh::size_type>(soup.triangle_of_input[point.face]));
+  std::array<double, 3> coordinates = {0, 0, 0};
+  SurfaceMesh::Halfedge_index h = mesh.halfedge(face);
+  for (int k = 0; k < 3; ++k, h = mesh.next(h)) {
+    const std::uint32_t input_vertex = soup.input_vertex_of_point[mesh.source(h)];
+    for (int corner = 0; corner < 3; ++corner)
+      if (triangles[3 * point.face + corner] == input_vertex) coordinates[k] = point.barycentric[corner];
+  }
+  return {face, coordinates};  // Barycentric_coordinates is std::array<double, 3> for this kernel
+}
+
 }  // namespace
 
 OracleResult cgal_geodesic_distances(std::span<const double> positions, std::span<const std::uint32_t> triangles,
-                                     std::span<const std::uint32_t> source_vertices) {
+                                     std::span<const std::uint32_t> source_vertices,
+                                     std::span<const FacePoint> source_points, std::span<const FacePoint> target_points) {
   check_input(positions, triangles, source_vertices);
   OracleResult result;
 
@@ -129,15 +154,19 @@ OracleResult cgal_geodesic_distances(std::span<const double> positions, std::spa
   // A split vertex seeds every one of its copies: they are the same point of the input.
   std::vector<bool> is_source(vertex_count, false);
   for (std::uint32_t source : source_vertices) is_source[source] = true;
-  std::vector<SurfaceMesh::Vertex_index> source_points;
+  std::vector<SurfaceMesh::Vertex_index> source_vertex_points;
   for (std::size_t point = 0; point < soup.points.size(); ++point)
     if (is_source[soup.input_vertex_of_point[point]])
-      source_points.emplace_back(static_cast<SurfaceMesh::size_type>(point));
-  if (source_points.empty()) return result;  // sources used by no face: nothing is reachable
+      source_vertex_points.emplace_back(static_cast<SurfaceMesh::size_type>(point));
+  result.target_distances.assign(target_points.size(), kInfinity);
+  std::vector<ShortestPath::Face_location> located_sources;
+  for (const FacePoint& point : source_points) located_sources.push_back(face_location(mesh, soup, triangles, point));
+  if (source_vertex_points.empty() && located_sources.empty()) return result;  // nothing is reachable
 
   const auto query_start = std::chrono::steady_clock::now();
   ShortestPath shortest_path(mesh);
-  shortest_path.add_source_points(source_points.begin(), source_points.end());
+  shortest_path.add_source_points(source_vertex_points.begin(), source_vertex_points.end());
+  shortest_path.add_source_points(located_sources.begin(), located_sources.end());
   shortest_path.build_sequence_tree();
   for (std::size_t point = 0; point < soup.points.size(); ++point) {
     const SurfaceMesh::Vertex_index vertex(static_cast<SurfaceMesh::size_type>(point));
@@ -146,6 +175,11 @@ OracleResult cgal_geodesic_distances(std::span<const double> positions, std::spa
     // A NaN is kept (no later copy replaces it) so that a test comparing against it fails loudly.
     double& best = result.distances[soup.input_vertex_of_point[point]];
     if (std::isnan(distance) || distance < best) best = distance;
+  }
+  for (std::size_t t = 0; t < target_points.size(); ++t) {
+    const auto location = face_location(mesh, soup, triangles, target_points[t]);
+    const double distance = shortest_path.shortest_distance_to_source_points(location.first, location.second).first;
+    if (!(distance < 0)) result.target_distances[t] = distance;
   }
   result.query_seconds = seconds_since(query_start);
   return result;

@@ -1,0 +1,119 @@
+// Validation of surface points against the mesh, and the convenience constructors.
+#include "surface_point.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "exactgeo/error.hpp"
+
+namespace exactgeo {
+namespace detail {
+namespace {
+
+std::string coordinates_text(const std::array<double, 3>& b) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.17g, %.17g, %.17g)", b[0], b[1], b[2]);
+  return text;
+}
+
+}  // namespace
+
+LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what) {
+  const std::size_t input_faces = mesh.input_face_to_surface.size();
+  if (point.face >= input_faces)
+    throw Error(ErrorCode::invalid_argument, what + ": face " + std::to_string(point.face) +
+                                                 " is out of range (mesh has " + std::to_string(input_faces) +
+                                                 " faces)");
+  LocatedPoint located;
+  located.face = mesh.input_face_to_surface[point.face];
+  if (located.face == kNone)
+    throw Error(ErrorCode::invalid_argument, what + ": face " + std::to_string(point.face) +
+                                                 " repeats a vertex and was dropped from the mesh");
+  const std::array<double, 3>& b = point.barycentric;
+  const double sum = b[0] + b[1] + b[2];
+  const bool finite = std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]);
+  if (!finite || std::min({b[0], b[1], b[2]}) < -kBarycentricSlack || std::abs(sum - 1) > kBarycentricSlack)
+    throw Error(ErrorCode::invalid_argument,
+                what + ": " + coordinates_text(b) + " are not barycentric coordinates on face " +
+                    std::to_string(point.face) + " (each must be >= 0 and their sum 1)");
+
+  // Clamp rounding noise, snap what is left of it to the edges and corners, and rescale to sum to 1.
+  std::array<double, 3> clean;
+  for (int k = 0; k < 3; ++k) clean[k] = std::clamp(b[k], 0.0, 1.0);
+  for (int pass = 0; pass < 2; ++pass) {
+    const double total = clean[0] + clean[1] + clean[2];
+    for (double& c : clean) c = c / total < kBarycentricSnap ? 0.0 : c / total;
+  }
+  located.barycentric = clean;
+  const int zeros = (clean[0] == 0) + (clean[1] == 0) + (clean[2] == 0);
+  if (zeros == 2) {
+    const int k = clean[0] != 0 ? 0 : (clean[1] != 0 ? 1 : 2);
+    located.vertex = mesh.corner_vertex[3 * located.face + k];
+  } else if (zeros == 1) {
+    // Halfedge i runs from corner i to corner i + 1: the edge without the zero corner.
+    const int zero = clean[0] == 0 ? 0 : (clean[1] == 0 ? 1 : 2);
+    located.edge = 3 * located.face + (zero + 1) % 3;
+  }
+  return located;
+}
+
+std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
+  const int i = static_cast<int>(h % 3);  // h runs from corner i (at the origin) to corner i + 1
+  const HalfedgeGeometry& g = mesh.halfedges[h];
+  const double to_head = point.barycentric[(i + 1) % 3], to_apex = point.barycentric[(i + 2) % 3];
+  return {to_head * g.length + to_apex * g.apex_x, to_apex * g.apex_y};
+}
+
+}  // namespace detail
+
+SurfacePoint vertex_point(const Mesh& mesh, std::uint32_t vertex) {
+  const detail::SurfaceMesh& s = mesh.surface();
+  if (vertex >= mesh.vertex_count())
+    throw Error(ErrorCode::invalid_argument, "vertex " + std::to_string(vertex) + " is out of range (mesh has " +
+                                                 std::to_string(mesh.vertex_count()) + " vertices)");
+  const auto copies = s.copies_of(vertex);
+  if (copies.empty())
+    throw Error(ErrorCode::invalid_argument, "vertex " + std::to_string(vertex) + " is used by no face");
+  const std::uint32_t corner = s.vertex_corners[s.vertex_corner_offsets[copies.front()]];
+  SurfacePoint point{s.surface_face_to_input[detail::face_of(corner)], {0, 0, 0}};
+  point.barycentric[corner % 3] = 1;
+  return point;
+}
+
+SurfacePoint edge_point(const Mesh& mesh, std::uint32_t from, std::uint32_t to, double t) {
+  const detail::SurfaceMesh& s = mesh.surface();
+  const std::string edge = "edge (" + std::to_string(from) + ", " + std::to_string(to) + ")";
+  if (!(t >= 0 && t <= 1))
+    throw Error(ErrorCode::invalid_argument, edge + ": parameter " + std::to_string(t) + " is outside [0, 1]");
+  if (from >= mesh.vertex_count() || to >= mesh.vertex_count())
+    throw Error(ErrorCode::invalid_argument, edge + " names a vertex out of range (mesh has " +
+                                                 std::to_string(mesh.vertex_count()) + " vertices)");
+  const std::uint32_t target = s.canonical_input[to];
+  for (std::uint32_t copy : s.copies_of(from)) {
+    for (std::uint32_t i = s.vertex_corner_offsets[copy]; i < s.vertex_corner_offsets[copy + 1]; ++i) {
+      const std::uint32_t corner = s.vertex_corners[i];
+      for (std::uint32_t other : {detail::next_halfedge(corner), detail::prev_halfedge(corner)}) {
+        if (s.surface_to_input[s.corner_vertex[other]] != target) continue;
+        SurfacePoint point{s.surface_face_to_input[detail::face_of(corner)], {0, 0, 0}};
+        point.barycentric[corner % 3] = 1 - t;
+        point.barycentric[other % 3] = t;
+        return point;
+      }
+    }
+  }
+  throw Error(ErrorCode::invalid_argument, edge + " is not an edge of any face");
+}
+
+std::array<double, 3> point_position(const Mesh& mesh, const SurfacePoint& point) {
+  const detail::SurfaceMesh& s = mesh.surface();
+  const detail::LocatedPoint located = detail::locate(s, point, "point");
+  std::array<double, 3> p = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t v = s.surface_to_input[s.corner_vertex[3 * located.face + k]];
+    for (int axis = 0; axis < 3; ++axis) p[axis] += located.barycentric[k] * s.input_positions[3 * v + axis];
+  }
+  return p;
+}
+
+}  // namespace exactgeo

@@ -1,0 +1,30 @@
+// Surface points located on the manifold surface the engine runs on.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "exactgeo/surface_point.hpp"
+#include "surface_mesh.hpp"
+
+namespace exactgeo::detail {
+
+// A validated point: on surface face `face` with clean barycentric coordinates (see surface_point.hpp for the
+// rounding policy). At a corner it is that surface vertex; on an edge, `edge` is the face's halfedge along it.
+struct LocatedPoint {
+  std::uint32_t face = kNone;
+  std::array<double, 3> barycentric = {1, 0, 0};
+  std::uint32_t vertex = kNone;  // the surface vertex it coincides with, if any
+  std::uint32_t edge = kNone;    // the halfedge of `face` whose interior it lies on, if any
+};
+
+// Throws Error(invalid_argument) naming `what` (e.g. "source 2") for a face out of range or dropped by the
+// mesh policy, non-finite coordinates, or coordinates that are not barycentric up to kBarycentricSlack.
+LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what);
+
+// The point in the frame of halfedge h, a halfedge of the point's face (tail at the origin, head at
+// (length, 0), apex above the x axis).
+std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h);
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,451 @@
+// The VTP driver: see vtp_engine.hpp.
+#include "vtp_engine.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "tolerances.hpp"
+
+namespace exactgeo::detail {
+namespace {
+
+// A set of directions around a vertex, as fan angles (SurfaceMesh::fan_angle_start), in up to two intervals.
+class ShadowCone {
+ public:
+  static ShadowCone everything() { return ShadowCone({{{-HUGE_VAL, HUGE_VAL}, {0.0, 0.0}}}, 1, 0.0); }
+
+  // The directions at least pi away on both sides from the arrival direction `arrival`, around a fan of
+  // `total` angle that is closed (an interior vertex) or open (a boundary vertex, angles in [0, total]).
+  static ShadowCone behind(double arrival, double total, bool closed) {
+    if (closed)  // one interval, to be compared modulo the total angle
+      return ShadowCone({{{arrival + std::numbers::pi - kShadowConeSlack,
+                           arrival + total - std::numbers::pi + kShadowConeSlack},
+                          {0.0, 0.0}}},
+                        1, total);
+    return ShadowCone({{{arrival + std::numbers::pi - kShadowConeSlack, HUGE_VAL},
+                        {-HUGE_VAL, arrival - std::numbers::pi + kShadowConeSlack}}},
+                      2, 0.0);
+  }
+
+  // The part [b0, b1] of the edge opposite to corner c (in the frame of halfedge next(c)) that rays from
+  // the vertex in these directions reach; b1 <= b0 if none. Two separate parts are merged into one span:
+  // a wider window is redundant, never wrong.
+  std::pair<double, double> part_of_opposite_edge(const SurfaceMesh& mesh, std::uint32_t c) const {
+    const double corner_angle = mesh.corner_angle[c];
+    const double start = mesh.fan_angle_start[c];
+    double lowest = HUGE_VAL, highest = -HUGE_VAL;
+    for (int i = 0; i < count_; ++i) {
+      for (int wrap = -1; wrap <= 1; ++wrap) {
+        if (wrap != 0 && period_ == 0) continue;
+        const double a0 = std::max(intervals_[i][0] + wrap * period_, start);
+        const double a1 = std::min(intervals_[i][1] + wrap * period_, start + corner_angle);
+        if (a1 < a0) continue;
+        lowest = std::min(lowest, a0 - start);
+        highest = std::max(highest, a1 - start);
+      }
+    }
+    if (lowest > highest) return {0.0, 0.0};
+    if (!mesh.corner_enters_forward[c]) {  // fan angles run from the corner's other edge
+      const double flipped_low = corner_angle - highest;
+      highest = corner_angle - lowest;
+      lowest = flipped_low;
+    }
+    // A ray at angle phi from edge c meets the opposite edge XY at |vX| sin(phi) / sin(phi + angle at X).
+    const std::uint32_t opposite = next_halfedge(c);
+    const HalfedgeGeometry& o = mesh.halfedges[opposite];
+    const double angle_at_x = mesh.corner_angle[opposite];
+    const double to_x = mesh.halfedges[c].length;
+    auto hit = [&](double phi) {
+      if (phi <= 0) return 0.0;
+      if (phi >= corner_angle) return o.length;
+      return std::clamp(to_x * std::sin(phi) / std::sin(phi + angle_at_x), 0.0, o.length);
+    };
+    return {hit(lowest), hit(highest)};
+  }
+
+ private:
+  ShadowCone(std::array<std::array<double, 2>, 2> intervals, int count, double period)
+      : intervals_(intervals), count_(count), period_(period) {}
+  std::array<std::array<double, 2>, 2> intervals_;
+  int count_;
+  double period_;  // the fan's total angle for a closed fan, 0 for an open one
+};
+
+double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
+
+// The directions around v (as fan angles, see SurfaceMesh) into which a shortest path arriving at v as
+// `a` says can continue without being shortcut: at least pi from the arrival direction on both sides.
+ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Arrival& a) {
+  if (a.halfedge == kNone || !mesh.fan_angles_reliable[v]) return ShadowCone::everything();
+  // The path reaches v = apex(h) from the point where it crosses h, or straight from the pseudo-source in
+  // the face; measure that direction in v's corner of face(h), from its edge towards tail(h), then as a fan
+  // angle.
+  const HalfedgeGeometry& g = mesh.halfedges[a.halfedge];
+  const bool crosses = !std::isnan(a.crossing);
+  const double to_a_x = -g.apex_x, to_a_y = -g.apex_y;
+  const double to_t_x = (crosses ? a.crossing : a.px) - g.apex_x, to_t_y = (crosses ? 0.0 : a.py) - g.apex_y;
+  const double local = std::atan2(std::abs(to_a_x * to_t_y - to_a_y * to_t_x), to_a_x * to_t_x + to_a_y * to_t_y);
+  const std::uint32_t corner = prev_halfedge(a.halfedge);  // leaves v towards tail(h)
+  const double corner_angle = mesh.corner_angle[corner];
+  const double arrival = mesh.fan_angle_start[corner] +
+                         (mesh.corner_enters_forward[corner] ? local : corner_angle - local);
+  return ShadowCone::behind(arrival, mesh.fan_total_angle[v], mesh.fan_closed[v]);
+}
+
+}  // namespace
+
+void VtpEngine::run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
+                    const GeodesicOptions& options) {
+  options_ = options;
+  tolerances_ = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale};
+  stats_ = {};
+  cutoff_ = options.max_distance;
+  sources_.assign(sources.begin(), sources.end());
+  const std::uint32_t n = mesh_.vertex_count;
+  distance_.assign(n, HUGE_VAL);
+  emitted_at_.assign(n, HUGE_VAL);
+  arrival_.assign(n, Arrival{});
+  state_.assign(n, VertexState::unseen);
+  emit_scheduled_.assign(n, 0);
+  source_label_.assign(n, kNone);
+  face_visited_at_.assign(mesh_.face_count(), kNone);
+  scheduled_.assign(mesh_.halfedges.size(), 0);
+  lists_.reset(mesh_.halfedges.size());
+  queue_.reset(n);
+  pending_.clear();
+  emit_queue_.clear();
+  iteration_ = 0;
+  register_targets(targets);
+
+  for (std::uint32_t i = 0; i < sources_.size(); ++i) {
+    const std::uint32_t v = sources_[i].point.vertex;
+    if (v == kNone) {
+      start_point_source(i);
+    } else {
+      if (source_label_[v] == kNone) source_label_[v] = sources_[i].label;
+      relax(v, 0.0, Arrival{v});
+    }
+  }
+  while (!queue_.empty()) {
+    update_cutoff();
+    const std::uint32_t v = queue_.pop();
+    state_[v] = VertexState::inside;
+    ++iteration_;
+    ++stats_.vertex_pops;
+    if (bends_paths(v)) emit(v);
+    for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+      const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
+      if (face_visited_at_[f] != kNone) continue;
+      face_visited_at_[f] = iteration_;
+      for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+        if (!lists_.empty(h)) schedule(h);
+    }
+    drain();
+  }
+  // Paths through a corner are only final now that every vertex distance is.
+  for (std::uint32_t f = 0; f + 1 < face_target_offsets_.size(); ++f)
+    if (face_target_offsets_[f] != face_target_offsets_[f + 1]) evaluate_targets_from_corners(f);
+  targets_changed_ = true;
+  update_cutoff();
+  stats_.peak_windows = lists_.peak_live();
+  stats_.peak_window_bytes = lists_.arena_bytes();
+}
+
+// A source inside a face or on an edge: straight rays reach the face's corners and cross its edges, so it
+// starts as windows spanning every edge of the faces around it (but the edge it lies on) and as distances at
+// their corners.
+void VtpEngine::start_point_source(std::uint32_t site) {
+  const LocatedPoint& point = sources_[site].point;
+  const std::uint32_t id = mesh_.vertex_count + site;
+  std::array<LocatedPoint, 2> around = {point, LocatedPoint{}};
+  if (point.edge != kNone && mesh_.twin[point.edge] != kNone) {
+    // The same point seen from the face across the edge.
+    const std::uint32_t e = point.edge, g = mesh_.twin[e];
+    const double t = point.barycentric[(e + 1) % 3];  // from e's tail towards its head
+    const double t_g = mesh_.tail(g) == mesh_.tail(e) ? t : 1 - t;
+    around[1].face = face_of(g);
+    around[1].barycentric = {0, 0, 0};
+    around[1].barycentric[g % 3] = 1 - t_g;
+    around[1].barycentric[(g + 1) % 3] = t_g;
+    around[1].edge = g;
+  }
+  for (const LocatedPoint& in_face : around) {
+    if (in_face.face == kNone) continue;
+    const std::uint32_t f = in_face.face;
+    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+      const auto [x, y] = position_in_frame(mesh_, in_face, h);
+      const HalfedgeGeometry& g = mesh_.halfedges[h];
+      // The corner opposite h is reached straight inside the face.
+      relax(mesh_.apex(h), length(g.apex_x - x, g.apex_y - y), Arrival{id, h, std::nan(""), x, y});
+      const std::uint32_t across = mesh_.twin[h];
+      if (h == in_face.edge || across == kNone || !(g.length > tolerances_.min_width)) continue;
+      place_new_window(across, to_twin_frame(Window{0, g.length, x, -y, 0, id}, g.length,
+                                             mesh_.tail(across) != mesh_.tail(h)));
+    }
+    // Targets in the same face are reached straight.
+    if (face_target_offsets_.empty()) continue;
+    const auto [sx, sy] = position_in_frame(mesh_, in_face, 3 * f);
+    for (std::uint32_t i = face_target_offsets_[f]; i < face_target_offsets_[f + 1]; ++i) {
+      const std::uint32_t t = face_targets_[i];
+      const auto [qx, qy] = position_in_frame(mesh_, targets_[t], 3 * f);
+      offer_to_target(t, length(qx - sx, qy - sy), Arrival{id, 3 * f, std::nan(""), sx, sy});
+    }
+  }
+}
+
+// A path of length d reaches v, arriving as `arrival` says.
+void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
+  if (!(d < distance_[v])) return;
+  if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) targets_changed_ = true;
+  distance_[v] = d;
+  arrival_[v] = arrival;
+  if (state_[v] != VertexState::inside) {
+    state_[v] = VertexState::queued;
+    queue_.push_or_decrease(v, d);
+  } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
+    // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
+    emit_scheduled_[v] = 1;
+    emit_queue_.push_back(v);
+  }
+}
+
+void VtpEngine::schedule(std::uint32_t h) {
+  if (scheduled_[h]) return;
+  scheduled_[h] = 1;
+  pending_.push_back(h);
+}
+
+// A window no point of which lies within the cut-off can only lead further away.
+bool VtpEngine::beyond_cutoff(const Window& w) const {
+  if (cutoff_ == HUGE_VAL) return false;
+  return w.sigma + length(std::clamp(w.px, w.b0, w.b1) - w.px, w.py) > cutoff_ + tolerances_.prune;
+}
+
+// A window just created on g (by a pseudo-source or a source point): it waits on the wavefront, or moves on
+// at once if g's face is already traversed.
+void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
+  if (beyond_cutoff(w)) return;
+  if (face_visited_at_[face_of(g)] != kNone) {
+    lists_.append(g, {&w, 1});
+    schedule(g);
+  } else {
+    lists_.prepend(g, {&w, 1});
+  }
+}
+
+// Paper Section 5.2, "Saddle Vertices": a pseudo-source sends windows across the edges opposite to it in
+// its one-ring and offers its distance to its neighbours. A shortest path bends at v only into the
+// directions at least pi away, on both sides, from the direction it arrived from (else it could be
+// shortened around v): only that shadow cone gets windows, which for a scan's many near-flat saddles is
+// a sliver. Sources, and vertices without reliable angles, send windows everywhere.
+void VtpEngine::emit(std::uint32_t v) {
+  if (distance_[v] > cutoff_) return;
+  emitted_at_[v] = distance_[v];
+  ++stats_.pseudo_source_emissions;
+  const ShadowCone cone = shadow_cone(mesh_, v, arrival_[v]);
+  for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+    const std::uint32_t c = mesh_.vertex_corners[i];  // halfedge leaving v
+    const std::uint32_t opposite = next_halfedge(c), back = prev_halfedge(c);
+    relax(mesh_.head(c), distance_[v] + mesh_.halfedges[c].length,
+          Arrival{v, back, std::nan(""), mesh_.halfedges[back].length, 0});
+    relax(mesh_.apex(c), distance_[v] + mesh_.halfedges[back].length, Arrival{v, c, std::nan(""), 0, 0});
+    const std::uint32_t g = mesh_.twin[opposite];
+    if (g == kNone) continue;
+    const HalfedgeGeometry& o = mesh_.halfedges[opposite];
+    const auto [b0, b1] = cone.part_of_opposite_edge(mesh_, c);
+    if (!(b1 - b0 > tolerances_.min_width)) continue;
+    place_new_window(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, distance_[v], v}, o.length,
+                                      mesh_.tail(g) != mesh_.tail(opposite)));
+  }
+}
+
+void VtpEngine::drain() {
+  while (!pending_.empty() || !emit_queue_.empty()) {
+    if (!emit_queue_.empty()) {
+      const std::uint32_t v = emit_queue_.back();
+      emit_queue_.pop_back();
+      emit_scheduled_[v] = 0;
+      if (distance_[v] < emitted_at_[v] - tolerances_.prune) emit(v);
+      continue;
+    }
+    const std::uint32_t h = pending_.front();
+    pending_.pop_front();
+    scheduled_[h] = 0;
+    cross(h);
+  }
+}
+
+// Propagates the list entering face(h) through h across that face (paper Section 4).
+void VtpEngine::cross(std::uint32_t h) {
+  // Read in place: nothing below changes the lists until this one is cleared.
+  const std::span<const Window> incoming = lists_.view(h);
+  if (incoming.empty()) return;
+  const HalfedgeGeometry& g = mesh_.halfedges[h];
+  const FaceFrame frame{g.length, g.apex_x, g.apex_y, mesh_.halfedges[prev_halfedge(h)].length,
+                        mesh_.halfedges[next_halfedge(h)].length};
+  const std::uint32_t a = mesh_.tail(h), b = mesh_.head(h), c = mesh_.apex(h);
+  const ApexReach reach = reach_apex(incoming, frame, splits_);
+  const Window& best = incoming[reach.window];
+  relax(c, reach.distance, Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py});
+  if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
+
+  to_ac_.clear();
+  to_bc_.clear();
+  stats_.window_propagations += cross_face(incoming, splits_, frame, reach, options_.rule1,
+                                           {distance_[a], distance_[b], distance_[c]}, tolerances_, to_ac_, to_bc_);
+  lists_.clear(h);
+  const bool prime = face_visited_at_[face_of(h)] == iteration_;
+  deliver(prev_halfedge(h), to_ac_, a, prime);
+  deliver(next_halfedge(h), to_bc_, b, prime);
+}
+
+// Hands windows that crossed to `side` (a halfedge of the face just crossed; their frame has `origin` at
+// x = 0) to the list on the other side of that edge.
+void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime) {
+  if (windows.empty()) return;
+  const std::uint32_t g = mesh_.twin[side];
+  if (g == kNone) return;  // a boundary edge: the windows leave the surface
+  const bool reversed = mesh_.tail(g) != origin;
+  const double length = mesh_.halfedges[side].length;
+  for (Window& w : windows) w = to_twin_frame(w, length, reversed);
+  if (reversed) std::reverse(windows.begin(), windows.end());  // keep the list ordered along g
+  if (cutoff_ < HUGE_VAL)
+    windows.erase(std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w); }),
+                  windows.end());
+
+  const bool inside = face_visited_at_[face_of(g)] != kNone;
+  if (!inside && prime && options_.rule23) {
+    // Rule 3: PrimeMerge on a new wavefront edge. The Rule 2 walk over the crossed windows continues from
+    // the list already there, so it prunes them among themselves and across the junction in one pass.
+    const std::span<Window> list = lists_.extend(g, windows.size());
+    const std::size_t old_size = list.size() - windows.size();
+    std::copy(windows.begin(), windows.end(), list.begin() + static_cast<std::ptrdiff_t>(old_size));
+    lists_.shrink_to(g, prune_neighbours(list, old_size, tolerances_));
+    return;
+  }
+  if (options_.rule23) windows.resize(prune_neighbours(windows, 0, tolerances_));  // Rule 2
+  if (inside) {  // inside the traversed area: keep moving
+    lists_.append(g, windows);
+    schedule(g);
+  } else if (!reversed) {  // order-free SecondMerge: windows from the side of g's tail go first
+    lists_.prepend(g, windows);
+  } else {
+    lists_.append(g, windows);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Targets.
+
+void VtpEngine::register_targets(std::span<const LocatedPoint> targets) {
+  targets_.assign(targets.begin(), targets.end());
+  target_distance_.assign(targets.size(), HUGE_VAL);
+  target_arrival_.assign(targets.size(), Arrival{});
+  face_target_offsets_.clear();
+  face_targets_.clear();
+  is_target_vertex_.clear();
+  targets_changed_ = !targets.empty();
+  if (targets.empty()) return;
+  is_target_vertex_.assign(mesh_.vertex_count, 0);
+  face_target_offsets_.assign(mesh_.face_count() + 1, 0);
+  for (const LocatedPoint& t : targets_) {
+    if (t.vertex != kNone)
+      is_target_vertex_[t.vertex] = 1;
+    else
+      ++face_target_offsets_[t.face + 1];
+  }
+  for (std::uint32_t f = 0; f < mesh_.face_count(); ++f) face_target_offsets_[f + 1] += face_target_offsets_[f];
+  face_targets_.resize(face_target_offsets_.back());
+  std::vector<std::uint32_t> fill(face_target_offsets_.begin(), face_target_offsets_.end() - 1);
+  for (std::uint32_t t = 0; t < targets_.size(); ++t)
+    if (targets_[t].vertex == kNone) face_targets_[fill[targets_[t].face]++] = t;
+}
+
+void VtpEngine::offer_to_target(std::uint32_t target, double d, const Arrival& arrival) {
+  double& best = target_distance_[target];
+  if (!(d < best)) return;
+  if (best >= cutoff_) targets_changed_ = true;  // it may have been the farthest
+  best = d;
+  target_arrival_[target] = arrival;
+}
+
+// The straight rays of a list entering face(h) reach the targets inside the face: a target q is reached
+// through window w if the ray from w's pseudo-source to q crosses the window. The list is taken before
+// Rule 1 and the vertex checks, which only prune what leaves the face.
+void VtpEngine::evaluate_targets(std::uint32_t h, std::span<const Window> list) {
+  const std::uint32_t f = face_of(h);
+  for (std::uint32_t i = face_target_offsets_[f]; i < face_target_offsets_[f + 1]; ++i) {
+    const std::uint32_t t = face_targets_[i];
+    const auto [qx, qy] = position_in_frame(mesh_, targets_[t], h);
+    for (const Window& w : list) {
+      const double rise = qy - w.py;
+      if (!(rise > 0)) continue;  // the pseudo-source on the edge's line and q on the edge: see the corners
+      const double x = w.px + (qx - w.px) * (-w.py / rise);
+      if (x < w.b0 || x > w.b1) continue;
+      offer_to_target(t, w.sigma + length(qx - w.px, qy - w.py), Arrival{w.pseudo_source, h, x, w.px, w.py});
+    }
+  }
+  evaluate_targets_from_corners(f);
+}
+
+// Paths that reach a target in face f straight from one of its corners.
+void VtpEngine::evaluate_targets_from_corners(std::uint32_t f) {
+  for (std::uint32_t i = face_target_offsets_[f]; i < face_target_offsets_[f + 1]; ++i) {
+    const std::uint32_t t = face_targets_[i];
+    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+      const std::uint32_t corner = mesh_.apex(h);
+      if (distance_[corner] == HUGE_VAL) continue;
+      const HalfedgeGeometry& g = mesh_.halfedges[h];
+      const auto [qx, qy] = position_in_frame(mesh_, targets_[t], h);
+      offer_to_target(t, distance_[corner] + length(qx - g.apex_x, qy - g.apex_y),
+                      Arrival{corner, h, std::nan(""), g.apex_x, g.apex_y});
+    }
+  }
+}
+
+// The cut-off: max_distance, lowered to the farthest target's distance once every target has one. A window
+// that cannot come closer than that can improve no target.
+void VtpEngine::update_cutoff() {
+  if (!targets_changed_) return;
+  targets_changed_ = false;
+  double farthest = 0;
+  for (std::uint32_t t = 0; t < targets_.size(); ++t)
+    farthest = std::max(farthest, targets_[t].vertex != kNone ? distance_[targets_[t].vertex] : target_distance_[t]);
+  cutoff_ = std::min(options_.max_distance, targets_.empty() ? HUGE_VAL : farthest);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Nearest sources.
+
+std::uint32_t VtpEngine::label_of(std::uint32_t pseudo_source, const std::vector<std::uint32_t>& vertex_labels) const {
+  if (pseudo_source == kNone) return kNoSource;
+  if (pseudo_source >= mesh_.vertex_count) return sources_[pseudo_source - mesh_.vertex_count].label;
+  return vertex_labels[pseudo_source];
+}
+
+// Each vertex takes the label of the pseudo-source its last straight piece starts from. Pseudo-sources are
+// reached with strictly smaller distances, so resolving vertices in order of distance needs one step each.
+std::vector<std::uint32_t> VtpEngine::vertex_labels() const {
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t v = 0; v < mesh_.vertex_count; ++v)
+    if (distance_[v] <= cutoff_) order.push_back(v);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return distance_[a] < distance_[b] || (distance_[a] == distance_[b] && a < b);
+  });
+  std::vector<std::uint32_t> label(mesh_.vertex_count, kNoSource);
+  for (std::uint32_t v : order)
+    label[v] = source_label_[v] != kNone ? source_label_[v] : label_of(arrival_[v].from, label);
+  // A pseudo-source at exactly the same distance (across a zero-length edge) may come later in that order.
+  for (std::uint32_t v : order)
+    for (std::uint32_t u = v, steps = 0; label[v] == kNoSource && steps <= mesh_.vertex_count; ++steps) {
+      u = arrival_[u].from;
+      if (u == kNone) break;
+      label[v] = label_of(u, label);
+      if (u >= mesh_.vertex_count) break;
+    }
+  return label;
+}
+
+}  // namespace exactgeo::detail

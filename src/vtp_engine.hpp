@@ -1,0 +1,116 @@
+// The VTP engine (paper Section 5.2, Algorithm 1): a priority queue of wavefront vertices; popping one adds
+// its unvisited faces to the traversed area and propagates the window lists entering them, and whatever
+// those lists reach inside the traversed area, until every list is pruned, has died on the boundary or
+// waits on an edge of the wavefront.
+//
+// Generalisations over the paper, each costing nothing when unused: sources at points inside faces and on
+// edges, a distance cut-off (windows that cannot reach below it are dropped), target points whose distances
+// are evaluated as window lists cross their faces (the cut-off then shrinks to the farthest target), and
+// per-vertex arrivals from which paths are traced back.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <span>
+#include <vector>
+
+#include "exactgeo/geodesic.hpp"
+#include "propagation.hpp"
+#include "surface_mesh.hpp"
+#include "surface_point.hpp"
+#include "vertex_queue.hpp"
+#include "windows.hpp"
+
+namespace exactgeo::detail {
+
+// A source of a run: a surface vertex (point.vertex set) or a point inside a face or on an edge, and the
+// index of the user's source it stands for.
+struct SourceSite {
+  LocatedPoint point;
+  std::uint32_t label;
+};
+
+// How the last straight piece of a shortest path reaches a point: from pseudo-source `from` (a surface
+// vertex, or vertex_count + i for point source i), which lies at (px, py) in the frame of `halfedge`, a
+// halfedge of the face the piece ends in. The piece crosses that halfedge at x = crossing, or, if crossing
+// is NaN, stays inside the face (the pseudo-source is one of its corners or a source inside it). A bend at
+// the crossing is allowed only where the window that carried the path ends. halfedge is kNone at a source.
+struct Arrival {
+  std::uint32_t from = kNone;
+  std::uint32_t halfedge = kNone;
+  double crossing = 0, px = 0, py = 0;
+};
+
+class VtpEngine {
+ public:
+  explicit VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh) {}
+
+  void run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
+           const GeodesicOptions& options);
+
+  // Distances above the cut-off are not final: reported as +inf.
+  double cutoff() const { return cutoff_; }
+  const std::vector<double>& distances() const { return distance_; }  // per surface vertex
+  const std::vector<Arrival>& arrivals() const { return arrival_; }   // per surface vertex
+  const std::vector<double>& target_distances() const { return target_distance_; }
+  const std::vector<Arrival>& target_arrivals() const { return target_arrival_; }
+  const std::vector<SourceSite>& sources() const { return sources_; }
+  const std::vector<LocatedPoint>& targets() const { return targets_; }
+  const GeodesicStats& stats() const { return stats_; }
+
+  // The source each surface vertex's path starts from (an index into the user's sources), kNoSource where
+  // the distance is +inf; and the same for a pseudo-source id as used in Arrival::from.
+  std::vector<std::uint32_t> vertex_labels() const;
+  std::uint32_t label_of(std::uint32_t pseudo_source, const std::vector<std::uint32_t>& vertex_labels) const;
+
+ private:
+  enum class VertexState : std::uint8_t { unseen, queued, inside };
+
+  void start_point_source(std::uint32_t site);
+  void relax(std::uint32_t v, double d, const Arrival& arrival);
+  void schedule(std::uint32_t h);
+  bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
+  void emit(std::uint32_t v);
+  void drain();
+  void cross(std::uint32_t h);
+  void deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime);
+  void place_new_window(std::uint32_t g, const Window& w);
+  bool beyond_cutoff(const Window& w) const;
+
+  void register_targets(std::span<const LocatedPoint> targets);
+  void evaluate_targets(std::uint32_t h, std::span<const Window> list);
+  void evaluate_targets_from_corners(std::uint32_t face);
+  void offer_to_target(std::uint32_t target, double d, const Arrival& arrival);
+  void update_cutoff();
+
+  const SurfaceMesh& mesh_;
+  GeodesicOptions options_;
+  Tolerances tolerances_{};
+  GeodesicStats stats_;
+  double cutoff_ = HUGE_VAL;
+
+  std::vector<SourceSite> sources_;
+  std::vector<double> distance_, emitted_at_;
+  std::vector<Arrival> arrival_;
+  std::vector<std::uint32_t> source_label_, face_visited_at_;
+  std::vector<VertexState> state_;
+  std::vector<std::uint8_t> scheduled_, emit_scheduled_;
+  std::uint32_t iteration_ = 0;
+  WindowLists lists_;
+  VertexQueue queue_;
+  std::deque<std::uint32_t> pending_;
+  std::vector<std::uint32_t> emit_queue_;
+  std::vector<Window> to_ac_, to_bc_;
+  std::vector<double> splits_;
+
+  // Targets: points inside faces or on edges are listed per face; points at vertices read the vertex.
+  std::vector<LocatedPoint> targets_;
+  std::vector<double> target_distance_;
+  std::vector<Arrival> target_arrival_;
+  std::vector<std::uint32_t> face_target_offsets_, face_targets_;  // per surface face, empty without targets
+  std::vector<std::uint8_t> is_target_vertex_;                      // per surface vertex, empty without
+  bool targets_changed_ = false;
+};
+
+}  // namespace exactgeo::detail
