@@ -208,16 +208,19 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   return {first_verdict, second_verdict};
 }
 
-// One step of the Rule 2 walk: checks `incoming` against the kept windows kept[0, count), from the last
-// backwards while those get removed, then keeps `incoming` unless it was removed itself.
-void keep_if_not_beaten(Window* kept, std::size_t& count, Window incoming, const Tolerances& tol) {
+// One step of the Rule 2 walk: checks windows[i] against the kept windows windows[0, count), from the last
+// backwards while those get removed, then keeps it (moving it down to position count) unless it was
+// removed itself.
+void keep_if_not_beaten(std::span<Window> windows, std::size_t& count, std::size_t i, const Tolerances& tol) {
+  Window& incoming = windows[i];  // count <= i: the kept windows never reach it
   while (count > 0) {
-    const auto [kept_verdict, incoming_verdict] = resolve_overlap(kept[count - 1], incoming, tol);
+    const auto [kept_verdict, incoming_verdict] = resolve_overlap(windows[count - 1], incoming, tol);
     if (incoming_verdict == Verdict::removed) return;
     if (kept_verdict != Verdict::removed) break;
     --count;
   }
-  kept[count++] = incoming;
+  if (count != i) windows[count] = incoming;
+  ++count;
 }
 
 }  // namespace
@@ -284,7 +287,7 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
 std::size_t prune_neighbours(std::span<Window> windows, std::size_t already_pruned, const Tolerances& tol) {
   // The kept windows form a prefix of the span itself: it never grows past the read position.
   std::size_t count = already_pruned;
-  for (std::size_t i = already_pruned; i < windows.size(); ++i) keep_if_not_beaten(windows.data(), count, windows[i], tol);
+  for (std::size_t i = already_pruned; i < windows.size(); ++i) keep_if_not_beaten(windows, count, i, tol);
   return count;
 }
 
