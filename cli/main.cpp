@@ -14,11 +14,13 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <new>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -146,10 +148,94 @@ const CLI::Validator kSourceArgument(
     },
     "", "source");
 
+// "F:b0,b1,b2": a point on input triangle F, with the barycentric weights of its three corners. Only the
+// syntax is checked here; the library checks the values against the mesh.
+std::optional<exactgeo::SurfacePoint> parse_surface_point(std::string_view text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string_view::npos) return std::nullopt;
+  exactgeo::SurfacePoint point;
+  const char* end = text.data() + colon;
+  auto [ptr, ec] = std::from_chars(text.data(), end, point.face);
+  if (ec != std::errc() || ptr != end || colon == 0) return std::nullopt;
+  const char* cursor = text.data() + colon + 1;
+  const char* stop = text.data() + text.size();
+  for (int k = 0; k < 3; ++k) {
+    const auto [next, error] = std::from_chars(cursor, stop, point.barycentric[k]);
+    if (error != std::errc()) return std::nullopt;
+    cursor = next;
+    if (k < 2) {
+      if (cursor == stop || *cursor != ',') return std::nullopt;
+      ++cursor;
+    }
+  }
+  if (cursor != stop) return std::nullopt;
+  return point;
+}
+
+const CLI::Validator kSurfacePointArgument(
+    [](std::string& text) -> std::string {
+      if (!parse_surface_point(text)) return "'" + text + "' is not a surface point F:b0,b1,b2";
+      return {};
+    },
+    "", "surface point");
+
+// A vertex index that fits the library's 32-bit type; anything else cannot name a vertex of any mesh.
+std::optional<std::uint32_t> parse_vertex(std::string_view text) {
+  std::uint32_t v = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size() || text.empty()) return std::nullopt;
+  return v;
+}
+
+// Targets: entries separated by spaces, newlines or ';', each a point F:b0,b1,b2 or vertex indices
+// separated by commas. `text` is a file's contents or the argument itself.
+std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
+                                                  const std::string& origin) {
+  std::vector<exactgeo::SurfacePoint> targets;
+  std::string entry;
+  std::istringstream entries(text);
+  while (entries >> entry) {
+    std::istringstream parts(entry);
+    for (std::string part; std::getline(parts, part, ';');) {
+      if (part.empty()) continue;
+      if (part.find(':') != std::string::npos) {
+        const auto point = parse_surface_point(part);
+        if (!point)
+          throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                                origin + ": target '" + part + "' is not a surface point F:b0,b1,b2");
+        targets.push_back(*point);
+        continue;
+      }
+      std::istringstream vertices(part);
+      for (std::string index; std::getline(vertices, index, ',');) {
+        const auto v = parse_vertex(index);
+        if (!v)
+          throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                                origin + ": target '" + index + "' is neither a vertex index nor a point F:b0,b1,b2");
+        targets.push_back(exactgeo::vertex_point(mesh, *v));
+      }
+    }
+  }
+  if (targets.empty()) throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument, origin + ": no target given");
+  return targets;
+}
+
+// The --targets argument: a file's contents if a file of that name exists, else the list itself.
+std::vector<exactgeo::SurfacePoint> read_targets(const std::string& argument, const exactgeo::Mesh& mesh) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(argument, error)) return parse_targets(argument, mesh, "--targets");
+  std::ifstream file(argument, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file && !file.eof())
+    throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "'");
+  return parse_targets(text.str(), mesh, argument);
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Output files.
 
-enum class OutputFormat { txt, csv, npy };
+enum class OutputFormat { txt, csv, npy, ply };
 
 std::optional<OutputFormat> output_format(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
@@ -158,13 +244,14 @@ std::optional<OutputFormat> output_format(const std::filesystem::path& path) {
   if (extension == ".txt") return OutputFormat::txt;
   if (extension == ".csv") return OutputFormat::csv;
   if (extension == ".npy") return OutputFormat::npy;
+  if (extension == ".ply") return OutputFormat::ply;
   return std::nullopt;
 }
 
 const CLI::Validator kOutputArgument(
     [](std::string& path) -> std::string {
       if (!output_format(path)) {
-        return "unsupported output file '" + path + "': the extension must be .txt, .csv or .npy";
+        return "unsupported output file '" + path + "': the extension must be .txt, .csv, .npy or .ply";
       }
       return {};
     },
@@ -192,27 +279,39 @@ void print_distance(std::FILE* file, double distance) {
   }
 }
 
-void write_txt(std::FILE* file, std::span<const double> distances) {
-  for (double distance : distances) {
-    print_distance(file, distance);
+// One value per row; with labels, each row also gives the nearest source (-1 where there is none).
+struct Column {
+  std::span<const double> distances;
+  std::span<const std::uint32_t> labels;  // empty: no label column
+};
+
+long long label_value(std::uint32_t label) { return label == exactgeo::kNoSource ? -1 : static_cast<long long>(label); }
+
+void write_txt(std::FILE* file, const Column& column) {
+  for (std::size_t i = 0; i < column.distances.size(); ++i) {
+    print_distance(file, column.distances[i]);
+    if (!column.labels.empty()) std::fprintf(file, " %lld", label_value(column.labels[i]));
     std::fputc('\n', file);
   }
 }
 
-void write_csv(std::FILE* file, std::span<const double> distances) {
-  std::fputs("vertex,distance\n", file);
-  for (std::size_t v = 0; v < distances.size(); ++v) {
-    std::fprintf(file, "%zu,", v);
-    print_distance(file, distances[v]);
+void write_csv(std::FILE* file, const Column& column, const char* row_name) {
+  std::fprintf(file, "%s,distance%s\n", row_name, column.labels.empty() ? "" : ",nearest_source");
+  for (std::size_t i = 0; i < column.distances.size(); ++i) {
+    std::fprintf(file, "%zu,", i);
+    print_distance(file, column.distances[i]);
+    if (!column.labels.empty()) std::fprintf(file, ",%lld", label_value(column.labels[i]));
     std::fputc('\n', file);
   }
 }
 
 // NumPy .npy format version 1.0: magic, version, little-endian header length, a Python dict literal
-// padded with spaces to a multiple of 64 bytes, then the raw little-endian doubles.
-void write_npy(std::FILE* file, std::span<const double> distances) {
-  std::string header =
-      "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(distances.size()) + ",), }";
+// padded with spaces to a multiple of 64 bytes, then the raw little-endian doubles. With labels the array
+// has two columns, distance and nearest source (-1 where there is none).
+void write_npy(std::FILE* file, const Column& column) {
+  const std::size_t columns = column.labels.empty() ? 1 : 2;
+  const std::string shape = std::to_string(column.distances.size()) + (columns == 1 ? "," : ", 2");
+  std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + shape + "), }";
   constexpr std::size_t kPreambleBytes = 10;  // magic (6) + version (2) + header length (2)
   constexpr std::size_t kAlignment = 64;
   const std::size_t unpadded = kPreambleBytes + header.size() + 1;  // + the closing newline
@@ -225,22 +324,73 @@ void write_npy(std::FILE* file, std::span<const double> distances) {
   std::fwrite(preamble, 1, sizeof preamble, file);
   std::fwrite(header.data(), 1, header.size(), file);
 
-  std::vector<unsigned char> data(distances.size() * 8);
-  for (std::size_t i = 0; i < distances.size(); ++i) {
-    const auto bits = std::bit_cast<std::uint64_t>(distances[i]);
-    for (std::size_t byte = 0; byte < 8; ++byte) data[i * 8 + byte] = std::uint8_t(bits >> (8 * byte));
+  std::vector<unsigned char> data;
+  data.reserve(column.distances.size() * columns * 8);
+  const auto append = [&](double value) {
+    const auto bits = std::bit_cast<std::uint64_t>(value);
+    for (std::size_t byte = 0; byte < 8; ++byte) data.push_back(std::uint8_t(bits >> (8 * byte)));
+  };
+  for (std::size_t i = 0; i < column.distances.size(); ++i) {
+    append(column.distances[i]);
+    if (columns == 2) append(static_cast<double>(label_value(column.labels[i])));
   }
   std::fwrite(data.data(), 1, data.size(), file);
 }
 
-void write_distances(const std::string& path, std::span<const double> distances) {
+// A colour for t in [0, 1]: a blue-green-yellow ramp like viridis, from a few of its stops.
+std::array<std::uint8_t, 3> ramp_colour(double t) {
+  static constexpr std::array<std::array<double, 3>, 5> kStops = {{
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};
+  const double x = std::clamp(t, 0.0, 1.0) * (kStops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), kStops.size() - 2);
+  const double f = x - static_cast<double>(i);
+  std::array<std::uint8_t, 3> colour{};
+  for (int k = 0; k < 3; ++k) colour[k] = std::uint8_t(std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k])));
+  return colour;
+}
+
+// The mesh as ASCII PLY with the distance as a per-vertex scalar (and the nearest source with labels) and a
+// colour ramp from 0 to the largest finite distance; unreachable vertices are grey with distance inf.
+void write_ply(std::FILE* file, const exactgeo::Mesh& mesh, const Column& column) {
+  const auto positions = mesh.positions();
+  const auto triangles = mesh.triangles();
+  double largest = 0;
+  for (double d : column.distances)
+    if (std::isfinite(d)) largest = std::max(largest, d);
+  std::fprintf(file, "ply\nformat ascii 1.0\ncomment written by exactgeo: geodesic distance per vertex\n");
+  std::fprintf(file, "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n",
+               mesh.vertex_count());
+  std::fprintf(file, "property double distance\n%s", column.labels.empty() ? "" : "property int nearest_source\n");
+  std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
+  std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const double d = column.distances[v];
+    const std::array<std::uint8_t, 3> colour =
+        std::isfinite(d) ? ramp_colour(largest > 0 ? d / largest : 0) : std::array<std::uint8_t, 3>{128, 128, 128};
+    std::fprintf(file, "%.17g %.17g %.17g ", positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+    print_distance(file, d);
+    if (!column.labels.empty()) std::fprintf(file, " %lld", label_value(column.labels[v]));
+    std::fprintf(file, " %u %u %u\n", colour[0], colour[1], colour[2]);
+  }
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    std::fprintf(file, "3 %u %u %u\n", triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]);
+}
+
+// Per-vertex values go to any format; `mesh` is needed for .ply only (per-target values have no mesh).
+void write_column(const std::string& path, const Column& column, const char* row_name,
+                  const exactgeo::Mesh* mesh = nullptr) {
   switch (*output_format(path)) {
     case OutputFormat::txt:
-      return write_file(path, [&](std::FILE* file) { write_txt(file, distances); });
+      return write_file(path, [&](std::FILE* file) { write_txt(file, column); });
     case OutputFormat::csv:
-      return write_file(path, [&](std::FILE* file) { write_csv(file, distances); });
+      return write_file(path, [&](std::FILE* file) { write_csv(file, column, row_name); });
     case OutputFormat::npy:
-      return write_file(path, [&](std::FILE* file) { write_npy(file, distances); });
+      return write_file(path, [&](std::FILE* file) { write_npy(file, column); });
+    case OutputFormat::ply:
+      if (!mesh)
+        throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                              "'" + path + "': per-target values cannot be written as a mesh (.ply)");
+      return write_file(path, [&](std::FILE* file) { write_ply(file, *mesh, column); });
   }
 }
 
@@ -287,11 +437,28 @@ void write_json(const std::string& path, const nlohmann::ordered_json& json) {
 // ---------------------------------------------------------------------------------------------------
 // Subcommands.
 
+struct SourceArguments {
+  std::vector<std::string> vertices;  // checked by kSourceArgument, converted after loading
+  std::vector<std::string> points;    // checked by kSurfacePointArgument
+};
+
 struct DistanceArguments {
   std::string mesh;
-  std::vector<std::string> sources;  // checked by kSourceArgument, converted after loading
+  SourceArguments sources;
+  double max_distance = std::numeric_limits<double>::infinity();
+  std::string targets;
+  bool labels = false;
   std::string out;
+  std::string target_out;
   std::string stats;
+  bool weld = false;
+};
+
+struct PathArguments {
+  std::string mesh;
+  SourceArguments sources;
+  std::string target;
+  std::string out;
   bool weld = false;
 };
 
@@ -301,24 +468,62 @@ struct InfoArguments {
   bool weld = false;
 };
 
+// The sources as the library takes them: vertex indices alone keep the vertex-source semantics (every copy
+// of a split vertex is a source); with points, vertices become points too. Vertices are numbered first.
+struct Sources {
+  std::vector<std::uint32_t> vertices;
+  std::vector<exactgeo::SurfacePoint> points;
+  bool as_points = false;
+};
+
+Sources read_sources(const SourceArguments& arguments, const exactgeo::Mesh& mesh) {
+  Sources sources;
+  for (const std::string& text : arguments.vertices) {
+    const auto v = parse_vertex(text);
+    if (!v)
+      throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                            "source vertex " + text + " is out of range (mesh has " +
+                                std::to_string(mesh.vertex_count()) + " vertices)");
+    sources.vertices.push_back(*v);
+  }
+  sources.as_points = !arguments.points.empty();
+  if (sources.as_points) {
+    for (std::uint32_t v : sources.vertices) sources.points.push_back(exactgeo::vertex_point(mesh, v));
+    for (const std::string& text : arguments.points) sources.points.push_back(*parse_surface_point(text));
+  }
+  return sources;
+}
+
+const exactgeo::GeodesicResult& solve(exactgeo::GeodesicSolver& solver, const Sources& sources,
+                                      std::span<const exactgeo::SurfacePoint> targets,
+                                      const exactgeo::GeodesicOptions& options) {
+  if (sources.as_points) return solver.solve(sources.points, targets, options);
+  return solver.solve(sources.vertices, targets, options);
+}
+
+std::string describe_sources(const SourceArguments& arguments) {
+  std::string text;
+  for (const auto& list : {arguments.vertices, arguments.points})
+    for (const std::string& source : list) text += (text.empty() ? "" : " ") + source;
+  return text;
+}
+
+std::string format_number(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
 int run_distance(const DistanceArguments& arguments) {
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.weld);
   const exactgeo::Mesh& mesh = loaded.mesh;
+  const Sources sources = read_sources(arguments.sources, mesh);
+  const std::vector<exactgeo::SurfacePoint> targets =
+      arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>() : read_targets(arguments.targets, mesh);
 
-  // The library checks sources against the mesh; only indices too wide for its 32-bit type stop here.
-  std::vector<std::uint32_t> sources;
-  for (const std::string& text : arguments.sources) {
-    std::uint32_t source = 0;
-    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), source);
-    if (ec != std::errc() || ptr != text.data() + text.size()) {
-      const std::string vertices = std::to_string(mesh.vertex_count());
-      throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
-                            "source vertex " + text + " is out of range (mesh has " + vertices + " vertices)");
-    }
-    sources.push_back(source);
-  }
-
-  const exactgeo::GeodesicResult result = exactgeo::geodesic_distance(mesh, sources);
+  exactgeo::GeodesicSolver solver(mesh);
+  const exactgeo::GeodesicResult& result =
+      solve(solver, sources, targets, exactgeo::GeodesicOptions{.max_distance = arguments.max_distance});
   const exactgeo::GeodesicStats& stats = result.stats;
 
   double max_distance = 0.0;
@@ -331,14 +536,25 @@ int run_distance(const DistanceArguments& arguments) {
     }
   }
 
-  if (!arguments.out.empty()) write_distances(arguments.out, result.distances);
+  const auto labels_if_asked = [&](const std::vector<std::uint32_t>& labels) {
+    return arguments.labels ? std::span<const std::uint32_t>(labels) : std::span<const std::uint32_t>();
+  };
+  if (!arguments.out.empty())
+    write_column(arguments.out, {result.distances, labels_if_asked(result.nearest_source)}, "vertex", &mesh);
+  if (!arguments.target_out.empty())
+    write_column(arguments.target_out, {result.target_distances, labels_if_asked(result.target_nearest_source)},
+                 "target");
 
   if (!arguments.stats.empty()) {
     nlohmann::ordered_json json;
     json["mesh"] = arguments.mesh;
     json["vertices"] = mesh.vertex_count();
     json["faces"] = mesh.face_count();
-    json["source"] = sources;
+    json["source"] = sources.vertices;
+    json["source_points"] = arguments.sources.points;
+    json["targets"] = targets.size();
+    json["max_distance_cutoff"] =
+        std::isinf(arguments.max_distance) ? nlohmann::ordered_json() : nlohmann::ordered_json(arguments.max_distance);
     json["algorithm"] = "vtp";
     json["read_seconds"] = loaded.read_seconds;
     json["build_seconds"] = loaded.build_seconds;
@@ -356,24 +572,110 @@ int run_distance(const DistanceArguments& arguments) {
   }
 
   if (arguments.out.empty()) {
-    std::string source_list;
-    for (std::uint32_t source : sources) source_list += (source_list.empty() ? "" : " ") + std::to_string(source);
-    char max_text[32], build_text[32], propagation_text[32];
-    std::snprintf(max_text, sizeof max_text, "%.12g", max_distance);
-    std::snprintf(build_text, sizeof build_text, "%.4f s", loaded.build_seconds);
-    std::snprintf(propagation_text, sizeof propagation_text, "%.4f s", stats.propagation_seconds);
-    print_table({
+    const std::size_t source_count = sources.vertices.size() + arguments.sources.points.size();
+    const bool cut_off = !targets.empty() || !std::isinf(arguments.max_distance);
+    std::vector<std::pair<std::string, std::string>> rows = {
         {"mesh", arguments.mesh},
         {"vertices", std::to_string(mesh.vertex_count())},
         {"faces", std::to_string(mesh.face_count())},
-        {sources.size() == 1 ? "source" : "sources", source_list},
-        {"max distance", max_text},
-        {"unreachable", std::to_string(unreachable)},
+        {source_count == 1 ? "source" : "sources", describe_sources(arguments.sources)},
+        {"max distance", format_number("%.12g", max_distance)},
+        {cut_off ? "unreachable or beyond" : "unreachable", std::to_string(unreachable)},
         {"window propagations", std::to_string(stats.window_propagations)},
         {"peak windows", std::to_string(stats.peak_windows)},
-        {"build", build_text},
-        {"propagation", propagation_text},
-    });
+        {"build", format_number("%.4f s", loaded.build_seconds)},
+        {"propagation", format_number("%.4f s", stats.propagation_seconds)},
+    };
+    if (!std::isinf(arguments.max_distance)) rows.insert(rows.begin() + 4, {"cut-off", format_number("%.12g", arguments.max_distance)});
+    if (arguments.target_out.empty())
+      for (std::size_t t = 0; t < targets.size(); ++t) {
+        std::string value = std::isinf(result.target_distances[t]) ? "inf" : format_number("%.17g", result.target_distances[t]);
+        if (arguments.labels) value += " (source " + std::to_string(label_value(result.target_nearest_source[t])) + ")";
+        rows.push_back({"target " + std::to_string(t), value});
+      }
+    print_table(rows);
+  }
+  return kExitOk;
+}
+
+// A path as CSV (x,y,z,kind,a,b,t: the vertex, the edge's two vertices and parameter, or the face and two
+// of its barycentric weights), OBJ (a polyline) or JSON.
+void write_path(const std::string& path_file, const exactgeo::GeodesicPath& path) {
+  std::string extension = std::filesystem::path(path_file).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  using Kind = exactgeo::PathPointLocation::Kind;
+  if (extension == ".json") {
+    nlohmann::ordered_json json;
+    json["length"] = path.length;
+    json["source"] = label_value(path.source);
+    json["points"] = path.points;
+    nlohmann::ordered_json locations = nlohmann::ordered_json::array();
+    for (const auto& location : path.locations) {
+      nlohmann::ordered_json item;
+      if (location.kind == Kind::vertex) {
+        item["vertex"] = location.vertex;
+      } else if (location.kind == Kind::edge) {
+        item["edge"] = {location.from, location.to};
+        item["t"] = location.t;
+      } else {
+        item["face"] = location.face_point.face;
+        item["barycentric"] = location.face_point.barycentric;
+      }
+      locations.push_back(item);
+    }
+    json["locations"] = locations;
+    return write_json(path_file, json);
+  }
+  write_file(path_file, [&](std::FILE* file) {
+    if (extension == ".obj") {
+      std::fprintf(file, "# geodesic path, length %.17g\n", path.length);
+      for (const auto& p : path.points) std::fprintf(file, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+      if (path.points.size() > 1) {
+        std::fputc('l', file);
+        for (std::size_t i = 1; i <= path.points.size(); ++i) std::fprintf(file, " %zu", i);
+        std::fputc('\n', file);
+      }
+      return;
+    }
+    std::fprintf(file, "x,y,z,kind,a,b,t\n");
+    for (std::size_t i = 0; i < path.points.size(); ++i) {
+      const auto& p = path.points[i];
+      const auto& location = path.locations[i];
+      std::fprintf(file, "%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+      if (location.kind == Kind::vertex)
+        std::fprintf(file, "vertex,%u,,\n", location.vertex);
+      else if (location.kind == Kind::edge)
+        std::fprintf(file, "edge,%u,%u,%.17g\n", location.from, location.to, location.t);
+      else
+        std::fprintf(file, "face,%u,,%.17g;%.17g;%.17g\n", location.face_point.face, location.face_point.barycentric[0],
+                     location.face_point.barycentric[1], location.face_point.barycentric[2]);
+    }
+  });
+}
+
+int run_path(const PathArguments& arguments) {
+  const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.weld);
+  const exactgeo::Mesh& mesh = loaded.mesh;
+  const Sources sources = read_sources(arguments.sources, mesh);
+  const std::vector<exactgeo::SurfacePoint> targets = parse_targets(arguments.target, mesh, "--target");
+  if (targets.size() != 1)
+    throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument, "--target takes one vertex or point, not " +
+                                                                     std::to_string(targets.size()));
+  exactgeo::GeodesicSolver solver(mesh);
+  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, {});
+  const exactgeo::GeodesicPath path = solver.path_to_target(0);
+  if (!arguments.out.empty()) write_path(arguments.out, path);
+  if (path.points.empty()) {
+    std::printf("target unreachable from every source\n");
+    return kExitOk;
+  }
+  if (arguments.out.empty()) {
+    print_table({{"mesh", arguments.mesh},
+                 {"distance", format_number("%.17g", result.target_distances[0])},
+                 {"path length", format_number("%.17g", path.length)},
+                 {"points", std::to_string(path.points.size())},
+                 {"nearest source", std::to_string(path.source)}});
+    for (const auto& p : path.points) std::printf("%.17g %.17g %.17g\n", p[0], p[1], p[2]);
   }
   return kExitOk;
 }
@@ -412,24 +714,93 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(kExitCodesHelp);
 
+  // --source and --source-point, shared by the commands that take sources.
+  const auto add_sources = [](CLI::App* command, SourceArguments& sources) {
+    CLI::Option* vertices = command->add_option("--source", sources.vertices,
+                                                "Source vertex index (repeat for several sources)")
+                                ->check(kSourceArgument)
+                                ->allow_extra_args(false)  // one index per --source, so MESH may follow it
+                                ->type_name("I");
+    CLI::Option* points = command->add_option("--source-point", sources.points,
+                                              "Source point on input triangle F with barycentric weights b0,b1,b2 "
+                                              "(repeat for several; numbered after the --source vertices)")
+                              ->check(kSurfacePointArgument)
+                              ->allow_extra_args(false)
+                              ->type_name("F:b0,b1,b2");
+    // At least one source of either kind.
+    command->callback([command, vertices, points] {
+      if (vertices->count() == 0 && points->count() == 0)
+        throw CLI::RequiredError(command->get_name() + ": --source or --source-point");
+    });
+  };
+
   DistanceArguments distance;
   CLI::App* distance_command =
-      app.add_subcommand("distance", "Geodesic distance from source vertices to every vertex");
+      app.add_subcommand("distance", "Geodesic distance from sources to every vertex (and to targets)");
   distance_command->add_option("MESH", distance.mesh, kMeshHelp)->required()->check(kMeshArgument)->type_name("");
-  distance_command->add_option("--source", distance.sources, "Source vertex index (repeat for several sources)")
-      ->required()
-      ->check(kSourceArgument)
-      ->allow_extra_args(false)  // one index per --source, so MESH may follow it
-      ->type_name("I");
+  add_sources(distance_command, distance.sources);
+  distance_command
+      ->add_option("--max-distance", distance.max_distance,
+                   "Stop the wavefront at this distance; vertices farther away get inf")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double value = 0;
+            const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (ec != std::errc() || ptr != text.data() + text.size() || !(value >= 0))
+              return "'" + text + "' is not a non-negative distance";
+            return {};
+          },
+          "", "distance"))
+      ->type_name("R");
+  distance_command
+      ->add_option("--targets", distance.targets,
+                   "Targets, as a file or a list: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
+                   "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
+                   "exact up to the farthest target and inf beyond")
+      ->type_name("FILE|LIST");
+  distance_command->add_flag("--labels", distance.labels,
+                             "Add the nearest source (index in the order given, vertices first; -1 if none) to "
+                             "each output row");
   distance_command
       ->add_option("--out", distance.out,
                    "Write one distance per vertex in input order: .txt (%.17g, 'inf' if unreachable), "
-                   ".csv (vertex,distance) or .npy (float64)")
+                   ".csv (vertex,distance), .npy (float64) or .ply (the mesh with a distance property and "
+                   "colours)")
+      ->check(kOutputArgument)
+      ->type_name("FILE.{txt,csv,npy,ply}");
+  distance_command
+      ->add_option("--target-out", distance.target_out,
+                   "Write one distance per target: .txt, .csv (target,distance) or .npy; without it the "
+                   "summary lists them")
       ->check(kOutputArgument)
       ->type_name("FILE.{txt,csv,npy}");
   distance_command->add_option("--stats", distance.stats, "Write statistics as JSON")->type_name("FILE.json");
   distance_command->add_flag("--weld", distance.weld, "Merge vertices with identical positions");
   distance_command->footer(kExitCodesHelp);
+
+  PathArguments path;
+  CLI::App* path_command = app.add_subcommand("path", "Shortest path from the nearest source to a target");
+  path_command->add_option("MESH", path.mesh, kMeshHelp)->required()->check(kMeshArgument)->type_name("");
+  add_sources(path_command, path.sources);
+  path_command->add_option("--target", path.target, "Target vertex index or point F:b0,b1,b2")
+      ->required()
+      ->type_name("I|F:b0,b1,b2");
+  path_command
+      ->add_option("--out", path.out,
+                   "Write the path: .csv (x,y,z and where each point lies), .obj (a polyline) or .json; "
+                   "without it the points are printed")
+      ->check(CLI::Validator(
+          [](std::string& file) -> std::string {
+            std::string extension = std::filesystem::path(file).extension().string();
+            std::transform(extension.begin(), extension.end(), extension.begin(),
+                           [](unsigned char c) { return char(std::tolower(c)); });
+            if (extension == ".csv" || extension == ".obj" || extension == ".json") return {};
+            return "unsupported path file '" + file + "': the extension must be .csv, .obj or .json";
+          },
+          "", "path output"))
+      ->type_name("FILE.{csv,obj,json}");
+  path_command->add_flag("--weld", path.weld, "Merge vertices with identical positions");
+  path_command->footer(kExitCodesHelp);
 
   InfoArguments info;
   CLI::App* info_command = app.add_subcommand("info", "What validation found in a mesh");
@@ -439,9 +810,13 @@ int main(int argc, char** argv) {
   info_command->footer(kExitCodesHelp);
 
   // CLI11 reports a mistyped command only as "A subcommand is required"; name it instead.
-  if (argc > 1 && argv[1][0] != '-' && argv[1] != distance_command->get_name() &&
-      argv[1] != info_command->get_name()) {
-    return usage_error(std::string("unknown command '") + argv[1] + "' (use distance or info)");
+  const auto is_command = [&](const char* name) {
+    for (const CLI::App* command : {distance_command, path_command, info_command})
+      if (command->get_name() == name) return true;
+    return false;
+  };
+  if (argc > 1 && argv[1][0] != '-' && !is_command(argv[1])) {
+    return usage_error(std::string("unknown command '") + argv[1] + "' (use distance, path or info)");
   }
 
   try {
@@ -453,6 +828,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*distance_command) return run_distance(distance);
+    if (*path_command) return run_path(path);
     return run_info(info);
   } catch (const exactgeo::Error& e) {
     if (e.code() == exactgeo::ErrorCode::internal) {

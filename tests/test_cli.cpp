@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -359,6 +361,10 @@ TEST_F(Cli, BuiltinParameterOutOfRangeIsInvalidInput) {
 TEST_F(Cli, UsageErrors) {
   expect_error(run("distance @icosphere:1 --source 0 --frobnicate"), 1, "--frobnicate");
   expect_error(run("distance @icosphere:1"), 1, "--source");
+  expect_error(run("distance @icosphere:1 --source-point 3:0.2,0.3"), 1, "3:0.2,0.3");
+  expect_error(run("distance @icosphere:1 --source 0 --max-distance -2"), 1, "-2");
+  expect_error(run("path @icosphere:1 --source 0"), 1, "--target");
+  expect_error(run("path @icosphere:1 --source 0 --target 3 --out " + arg("p.txt")), 1, "p.txt");
   expect_error(run("distance @icosphere:1 --source -1"), 1, "-1");
   expect_error(run("distance @icosphere:1 --source abc"), 1, "abc");
   expect_error(run("distance @cube --source 0"), 1, "@cube");
@@ -374,6 +380,127 @@ TEST_F(Cli, BadOutputExtensionIsUsageError) {
 
 TEST_F(Cli, UnwritableOutputIsInvalidInput) {
   expect_error(run("distance @icosphere:1 --source 0 --out " + arg("missing-dir/d.txt")), 2, "missing-dir/d.txt");
+}
+
+TEST_F(Cli, PointSourcesTargetsAndLabelsOnAFlatGrid) {
+  // @grid:4:4: vertex j*5+i at (i, j, 0); every distance is a straight line.
+  write_file(path("targets.txt"), "7,12\n5:0.5,0.5,0 ; 24\n");
+  const RunResult result = run("distance @grid:4:4 --source 0 --source-point 3:0.2,0.3,0.5 --targets " +
+                               arg("targets.txt") + " --labels --out " + arg("d.csv") + " --target-out " + arg("t.csv"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const exactgeo::MeshSoup grid = exactgeo::make_grid(4, 4, 4, 4);
+  std::array<double, 3> point{};
+  for (int k = 0; k < 3; ++k)
+    for (int axis = 0; axis < 3; ++axis)
+      point[axis] += std::array<double, 3>{0.2, 0.3, 0.5}[k] * grid.positions[3 * grid.triangles[9 + k] + axis];
+  const auto to_vertex = [&](const std::array<double, 3>& p, int v) {
+    return std::hypot(p[0] - grid.positions[3 * v], p[1] - grid.positions[3 * v + 1]);
+  };
+  const std::array<double, 3> origin{0, 0, 0};
+  // Targets: vertices 7 and 12, the midpoint of face 5's first edge, vertex 24.
+  std::istringstream rows(read_file(path("t.csv")));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "target,distance,nearest_source");
+  std::vector<std::array<double, 2>> expected;
+  for (int v : {7, 12}) expected.push_back({std::min(to_vertex(origin, v), to_vertex(point, v)), 0});
+  std::array<double, 3> midpoint{};
+  for (int axis = 0; axis < 3; ++axis)
+    midpoint[axis] = 0.5 * (grid.positions[3 * grid.triangles[15] + axis] + grid.positions[3 * grid.triangles[16] + axis]);
+  const double to_mid_from_point = std::hypot(point[0] - midpoint[0], point[1] - midpoint[1]);
+  expected.push_back({std::min(std::hypot(midpoint[0], midpoint[1]), to_mid_from_point), 0});
+  expected.push_back({std::min(to_vertex(origin, 24), to_vertex(point, 24)), 0});
+  for (std::size_t t = 0; std::getline(rows, line); ++t) {
+    ASSERT_LT(t, expected.size()) << line;
+    double distance = 0;
+    long long label = -2;
+    std::size_t index = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%zu,%lf,%lld", &index, &distance, &label), 3) << line;
+    EXPECT_EQ(index, t);
+    EXPECT_NEAR(distance, expected[t][0], 1e-12) << line;
+    EXPECT_TRUE(label == 0 || label == 1) << line;
+  }
+  // Vertex rows carry labels: the nearer of the two sources (vertices first, then points).
+  std::istringstream vertex_rows(read_file(path("d.csv")));
+  std::getline(vertex_rows, line);
+  EXPECT_EQ(line, "vertex,distance,nearest_source");
+  for (int v = 0; std::getline(vertex_rows, line); ++v) {
+    double distance = 0;
+    long long label = -2;
+    int index = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%lf,%lld", &index, &distance, &label), 3) << line;
+    if (std::isinf(distance)) {
+      EXPECT_EQ(label, -1) << line;
+      continue;
+    }
+    const double from_origin = to_vertex(origin, v), from_point = to_vertex(point, v);
+    EXPECT_NEAR(distance, std::min(from_origin, from_point), 1e-12) << line;
+    if (std::abs(from_origin - from_point) > 1e-9) EXPECT_EQ(label, from_origin < from_point ? 0 : 1) << line;
+  }
+}
+
+TEST_F(Cli, MaxDistanceLeavesFartherVerticesAtInf) {
+  ASSERT_EQ(run("distance @grid:8:8 --source 0 --max-distance 4.5 --out " + arg("d.txt")).exit_code, 0);
+  const std::vector<double> d = parse_txt(path("d.txt"));
+  ASSERT_EQ(d.size(), 81u);
+  for (int v = 0; v < 81; ++v) {
+    const double truth = std::hypot(v % 9, v / 9);
+    if (truth <= 4.5 - 1e-9) EXPECT_NEAR(d[v], truth, 1e-12) << v;
+    if (truth > 4.5 + 1e-9) EXPECT_TRUE(std::isinf(d[v])) << v;
+  }
+}
+
+TEST_F(Cli, PlyOutputCarriesDistancesAndColours) {
+  ASSERT_EQ(run("distance @grid:2:2 --source 0 --labels --out " + arg("d.ply")).exit_code, 0);
+  std::istringstream lines(read_file(path("d.ply")));
+  std::string line;
+  std::vector<std::string> header;
+  while (std::getline(lines, line) && line != "end_header") header.push_back(line);
+  for (const char* expected : {"ply", "format ascii 1.0", "element vertex 9", "property double distance",
+                               "property int nearest_source", "property uchar red", "element face 8",
+                               "property list uchar int vertex_indices"})
+    EXPECT_NE(std::find(header.begin(), header.end(), expected), header.end()) << expected;
+  for (int v = 0; v < 9; ++v) {
+    ASSERT_TRUE(std::getline(lines, line));
+    double x, y, z, distance;
+    int label, red, green, blue;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %d %d %d %d", &x, &y, &z, &distance, &label, &red, &green,
+                          &blue), 8) << line;
+    EXPECT_NEAR(distance, std::hypot(x, y), 1e-12);
+    EXPECT_EQ(label, 0);
+  }
+  int faces = 0;
+  while (std::getline(lines, line)) faces += line.rfind("3 ", 0) == 0;
+  EXPECT_EQ(faces, 8);
+}
+
+TEST_F(Cli, PathOnAFlatGridIsTheDiagonal) {
+  for (const char* name : {"p.csv", "p.obj", "p.json"})
+    ASSERT_EQ(run("path @grid:4:4 --source 0 --target 24 --out " + arg(name)).exit_code, 0) << name;
+  const nlohmann::json path_json = nlohmann::json::parse(read_file(path("p.json")));
+  EXPECT_NEAR(path_json["length"].get<double>(), 4 * std::sqrt(2.0), 1e-12);
+  const auto& points = path_json["points"];
+  ASSERT_GE(points.size(), 2u);
+  for (const auto& p : points) EXPECT_NEAR(p[0].get<double>(), p[1].get<double>(), 1e-12);  // on the diagonal
+  EXPECT_EQ(path_json["locations"].front()["vertex"], 0);
+  EXPECT_EQ(path_json["locations"].back()["vertex"], 24);
+  const std::string obj = read_file(path("p.obj"));
+  EXPECT_EQ(static_cast<std::size_t>(std::count(obj.begin(), obj.end(), 'v')), points.size());
+  EXPECT_NE(obj.find("\nl 1 2"), std::string::npos) << obj;
+  const std::string csv = read_file(path("p.csv"));
+  EXPECT_EQ(csv.rfind("x,y,z,kind,a,b,t\n", 0), 0u);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), points.size() + 1);
+  const RunResult printed = run("path @grid:4:4 --source-point 0:0.2,0.3,0.5 --target 24");
+  EXPECT_EQ(printed.exit_code, 0) << printed.err;
+  EXPECT_NE(printed.out.find("path length"), std::string::npos) << printed.out;
+}
+
+TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
+  expect_error(run("distance @grid:4:4 --source-point 99:0.2,0.3,0.5"), 2, "face 99");
+  expect_error(run("distance @grid:4:4 --source-point 3:0.2,0.3,0.9"), 2, "not barycentric");
+  expect_error(run("distance @grid:4:4 --source 0 --targets 3,x"), 2, "'x'");
+  expect_error(run("distance @grid:4:4 --source 0 --targets 500"), 2, "500");
+  expect_error(run("path @grid:4:4 --source 0 --target '3;4'"), 2, "one vertex or point");
 }
 
 }  // namespace
