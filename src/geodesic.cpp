@@ -51,14 +51,7 @@ const GeodesicResult& GeodesicSolver::solve(std::span<const std::uint32_t> sourc
   const detail::SurfaceMesh& surface = mesh_->surface();
   std::vector<detail::SourceSite> sites;
   for (std::uint32_t i = 0; i < source_vertices.size(); ++i) {
-    const std::uint32_t v = source_vertices[i];
-    if (v >= mesh_->vertex_count())
-      throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(v) + " is out of range (mesh has " +
-                                                   std::to_string(mesh_->vertex_count()) + " vertices)");
-    const auto copies = surface.copies_of(v);
-    if (copies.empty())
-      throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(v) + " is used by no face");
-    for (std::uint32_t s : copies) {
+    for (std::uint32_t s : detail::source_vertex_copies(surface, source_vertices[i])) {
       detail::LocatedPoint point;
       point.vertex = s;
       sites.push_back({point, i});

@@ -58,6 +58,18 @@ LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const st
   return located;
 }
 
+std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex) {
+  const std::size_t vertex_count = mesh.canonical_input.size();
+  if (vertex >= vertex_count)
+    throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(vertex) +
+                                                 " is out of range (mesh has " + std::to_string(vertex_count) +
+                                                 " vertices)");
+  const auto copies = mesh.copies_of(vertex);
+  if (copies.empty())
+    throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(vertex) + " is used by no face");
+  return copies;
+}
+
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
   const int i = static_cast<int>(h % 3);  // h runs from corner i (at the origin) to corner i + 1
   const HalfedgeGeometry& g = mesh.halfedges[h];

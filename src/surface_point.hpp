@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "exactgeo/surface_point.hpp"
@@ -22,6 +23,10 @@ struct LocatedPoint {
 // Throws Error(invalid_argument) naming `what` (e.g. "source 2") for a face out of range or dropped by the
 // mesh policy, non-finite coordinates, or coordinates that are not barycentric up to kBarycentricSlack.
 LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what);
+
+// The surface copies of input vertex `vertex` as a source (several where the mesh policy split it). Throws
+// Error(invalid_argument) if the index is out of range or the vertex is used by no face.
+std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex);
 
 // The point in the frame of halfedge h, a halfedge of the point's face (tail at the origin, head at
 // (length, 0), apex above the x axis).

@@ -4,6 +4,7 @@
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/io.hpp"
+#include "exactgeo/many_sources.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/shapes.hpp"
 #include "exactgeo/surface_point.hpp"

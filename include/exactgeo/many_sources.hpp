@@ -1,0 +1,55 @@
+// Work over many sources: distance matrices computed across sources in parallel, and geodesic
+// farthest-point sampling.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "exactgeo/geodesic.hpp"
+#include "exactgeo/mesh.hpp"
+
+namespace exactgeo {
+
+struct MatrixOptions {
+  GeodesicOptions geodesic;    // per-source options; max_distance gives a sparse (cut-off) matrix
+  unsigned threads = 0;        // worker threads; 0: one per core
+  std::size_t block_rows = 0;  // rows computed before they are handed over; 0: 4 per thread
+};
+
+// Calls `consume(first_row, rows)` for consecutive blocks of rows, in order: row i holds the distances from
+// source_vertices[i] to every input vertex (+inf where unreachable or beyond max_distance), rows back to
+// back. At most one block is held in memory, so any number of sources fits. `consume` runs on the calling
+// thread. Throws exactgeo::Error(invalid_argument) for an invalid source or option before any work.
+void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                             const MatrixOptions& options,
+                             const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume);
+
+// The whole matrix, sources x vertices, row-major.
+std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                                    const MatrixOptions& options = {});
+
+// The finite entries of the matrix (with a cut-off most are +inf), in row-major order.
+struct SparseDistances {
+  std::size_t rows = 0, columns = 0;
+  std::vector<std::uint32_t> row, column;
+  std::vector<double> distance;
+};
+SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                                       const MatrixOptions& options = {});
+
+// Geodesic farthest-point sampling: starting from `first`, each next sample is the vertex farthest from all
+// samples so far (ties to the lowest index). Stops early if every reachable vertex is a sample. Each run
+// after the first is cut off at the current largest distance to the samples, beyond which it cannot change
+// anything, so later samples cost less.
+struct Sampling {
+  std::vector<std::uint32_t> samples;
+  std::vector<double> distances;  // per input vertex: to the nearest sample (+inf where unreachable)
+  std::vector<std::uint32_t> nearest_sample;  // per input vertex: index into samples, kNoSource if unreachable
+};
+Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first = 0,
+                                 const GeodesicOptions& options = {});
+
+}  // namespace exactgeo

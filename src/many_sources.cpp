@@ -1,0 +1,119 @@
+// Many sources: one solver per worker thread, rows handed out from a shared counter and handed over in
+// blocks; farthest-point sampling with shrinking cut-offs.
+#include "exactgeo/many_sources.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "exactgeo/error.hpp"
+#include "surface_point.hpp"
+
+namespace exactgeo {
+
+void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                             const MatrixOptions& options,
+                             const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume) {
+  if (!(options.geodesic.max_distance >= 0))
+    throw Error(ErrorCode::invalid_argument, "max_distance must be a non-negative number");
+  for (std::uint32_t v : source_vertices) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
+  const std::size_t columns = mesh.vertex_count();
+  const unsigned threads = std::max(1u, options.threads ? options.threads : std::thread::hardware_concurrency());
+  const std::size_t block_rows = std::max<std::size_t>(1, options.block_rows ? options.block_rows : 4 * threads);
+  std::vector<double> block;
+  std::vector<GeodesicSolver> solvers;
+  for (unsigned t = 0; t < threads; ++t) solvers.emplace_back(mesh);
+
+  for (std::size_t first = 0; first < source_vertices.size(); first += block_rows) {
+    const std::size_t rows = std::min(block_rows, source_vertices.size() - first);
+    block.resize(rows * columns);
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    const auto work = [&](GeodesicSolver& solver) {
+      try {
+        for (std::size_t r; (r = next.fetch_add(1)) < rows;) {
+          const std::uint32_t source = source_vertices[first + r];
+          const GeodesicResult& result = solver.solve(std::span(&source, 1), {}, options.geodesic);
+          std::copy(result.distances.begin(), result.distances.end(), block.begin() + static_cast<std::ptrdiff_t>(r * columns));
+        }
+      } catch (...) {
+        const std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = rows;
+      }
+    };
+    const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads, rows));
+    std::vector<std::jthread> pool;
+    for (unsigned t = 1; t < workers; ++t) pool.emplace_back(work, std::ref(solvers[t]));
+    work(solvers[0]);
+    pool.clear();  // joins
+    if (failure) std::rethrow_exception(failure);
+    consume(first, block);
+  }
+}
+
+std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                                    const MatrixOptions& options) {
+  std::vector<double> matrix(source_vertices.size() * mesh.vertex_count());
+  for_each_distance_block(mesh, source_vertices, options, [&](std::size_t first, std::span<const double> rows) {
+    std::copy(rows.begin(), rows.end(), matrix.begin() + static_cast<std::ptrdiff_t>(first * mesh.vertex_count()));
+  });
+  return matrix;
+}
+
+SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                                       const MatrixOptions& options) {
+  SparseDistances sparse;
+  sparse.rows = source_vertices.size();
+  sparse.columns = mesh.vertex_count();
+  for_each_distance_block(mesh, source_vertices, options, [&](std::size_t first, std::span<const double> rows) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (std::isinf(rows[i])) continue;
+      sparse.row.push_back(static_cast<std::uint32_t>(first + i / sparse.columns));
+      sparse.column.push_back(static_cast<std::uint32_t>(i % sparse.columns));
+      sparse.distance.push_back(rows[i]);
+    }
+  });
+  return sparse;
+}
+
+Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first,
+                                 const GeodesicOptions& options) {
+  Sampling sampling;
+  if (count == 0) return sampling;
+  GeodesicSolver solver(mesh);
+  sampling.samples.push_back(first);
+  const GeodesicResult& start = solver.solve(std::span(&first, 1), {}, options);
+  sampling.distances = start.distances;
+  sampling.nearest_sample.assign(mesh.vertex_count(), kNoSource);
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+    if (!std::isinf(sampling.distances[v])) sampling.nearest_sample[v] = 0;
+  while (sampling.samples.size() < count) {
+    // The farthest vertex from the samples; nothing farther than it can get closer to the next sample's run.
+    std::uint32_t farthest = kNoSource;
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+      if (!std::isinf(sampling.distances[v]) &&
+          (farthest == kNoSource || sampling.distances[v] > sampling.distances[farthest]))
+        farthest = v;
+    if (farthest == kNoSource || sampling.distances[farthest] == 0) break;  // every reachable vertex is a sample
+    GeodesicOptions cut = options;
+    cut.max_distance = std::min(options.max_distance, sampling.distances[farthest]);
+    const GeodesicResult& run = solver.solve(std::span(&farthest, 1), {}, cut);
+    const auto index = static_cast<std::uint32_t>(sampling.samples.size());
+    sampling.samples.push_back(farthest);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+      if (run.distances[v] < sampling.distances[v]) {
+        sampling.distances[v] = run.distances[v];
+        sampling.nearest_sample[v] = index;
+      }
+    }
+  }
+  return sampling;
+}
+
+}  // namespace exactgeo
