@@ -24,10 +24,12 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <unistd.h>
 #include <vector>
 
 #include "exactgeo/exactgeo.hpp"
 #include "exactgeo/shapes.hpp"
+#include "npy.hpp"
 
 namespace {
 
@@ -220,17 +222,75 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
   return targets;
 }
 
-// The --targets argument: a file's contents if a file of that name exists, else the list itself.
-std::vector<exactgeo::SurfacePoint> read_targets(const std::string& argument, const exactgeo::Mesh& mesh) {
+// A list argument: the contents of the file it names if there is one, else the argument itself.
+std::string list_text(const std::string& argument) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(argument, error)) return parse_targets(argument, mesh, "--targets");
+  if (!std::filesystem::is_regular_file(argument, error)) {
+    // A list never holds a '/': this was meant as a file.
+    if (argument.find('/') != std::string::npos)
+      throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "': no such file");
+    return argument;
+  }
   std::ifstream file(argument, std::ios::binary);
   std::ostringstream text;
   text << file.rdbuf();
-  if (!file && !file.eof())
-    throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "'");
-  return parse_targets(text.str(), mesh, argument);
+  if (!file && !file.eof()) throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "'");
+  return text.str();
 }
+
+// Vertex indices separated by spaces, newlines, ',' or ';'.
+std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin) {
+  std::vector<std::uint32_t> vertices;
+  std::string entry;
+  std::istringstream entries(text);
+  while (entries >> entry) {
+    std::replace(entry.begin(), entry.end(), ';', ',');
+    std::istringstream parts(entry);
+    for (std::string index; std::getline(parts, index, ',');) {
+      if (index.empty()) continue;
+      const auto v = parse_vertex(index);
+      if (!v) throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument, origin + ": '" + index + "' is not a vertex index");
+      vertices.push_back(*v);
+    }
+  }
+  if (vertices.empty()) throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument, origin + ": no vertex given");
+  return vertices;
+}
+
+// Progress of long work on stderr: shown once the work has run for a second, only when stderr is a terminal
+// and --quiet is not given; the line is rewritten in place and ended when the work is done.
+class Progress {
+ public:
+  Progress(std::string what, std::size_t total, bool quiet)
+      : what_(std::move(what)), total_(total), enabled_(!quiet && ::isatty(::fileno(stderr))),
+        start_(std::chrono::steady_clock::now()) {}
+  ~Progress() {
+    if (shown_) std::fputc('\n', stderr);
+  }
+  void update(std::size_t done) {
+    if (!enabled_ || seconds_since(start_) < 1.0) return;
+    std::fprintf(stderr, "\rexactgeo: %s %zu/%zu (%.0f%%)", what_.c_str(), done, total_,
+                 total_ ? 100.0 * double(done) / double(total_) : 100.0);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+
+ private:
+  std::string what_;
+  std::size_t total_;
+  bool enabled_, shown_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+const CLI::Validator kDistanceArgument(
+    [](std::string& text) -> std::string {
+      double value = 0;
+      const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec != std::errc() || ptr != text.data() + text.size() || !(value >= 0))
+        return "'" + text + "' is not a non-negative distance";
+      return {};
+    },
+    "", "distance");
 
 // ---------------------------------------------------------------------------------------------------
 // Output files.
@@ -305,35 +365,20 @@ void write_csv(std::FILE* file, const Column& column, const char* row_name) {
   }
 }
 
-// NumPy .npy format version 1.0: magic, version, little-endian header length, a Python dict literal
-// padded with spaces to a multiple of 64 bytes, then the raw little-endian doubles. With labels the array
-// has two columns, distance and nearest source (-1 where there is none).
+// .npy: with labels the array has two columns, distance and nearest source (-1 where there is none).
 void write_npy(std::FILE* file, const Column& column) {
-  const std::size_t columns = column.labels.empty() ? 1 : 2;
-  const std::string shape = std::to_string(column.distances.size()) + (columns == 1 ? "," : ", 2");
-  std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + shape + "), }";
-  constexpr std::size_t kPreambleBytes = 10;  // magic (6) + version (2) + header length (2)
-  constexpr std::size_t kAlignment = 64;
-  const std::size_t unpadded = kPreambleBytes + header.size() + 1;  // + the closing newline
-  header.append((kAlignment - unpadded % kAlignment) % kAlignment, ' ');
-  header += '\n';
-
-  const auto header_bytes = std::uint16_t(header.size());
-  const unsigned char preamble[kPreambleBytes] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0,
-                                                  std::uint8_t(header_bytes & 0xff), std::uint8_t(header_bytes >> 8)};
-  std::fwrite(preamble, 1, sizeof preamble, file);
-  std::fwrite(header.data(), 1, header.size(), file);
-
-  std::vector<unsigned char> data;
-  data.reserve(column.distances.size() * columns * 8);
-  const auto append = [&](double value) {
-    const auto bits = std::bit_cast<std::uint64_t>(value);
-    for (std::size_t byte = 0; byte < 8; ++byte) data.push_back(std::uint8_t(bits >> (8 * byte)));
-  };
-  for (std::size_t i = 0; i < column.distances.size(); ++i) {
-    append(column.distances[i]);
-    if (columns == 2) append(static_cast<double>(label_value(column.labels[i])));
+  const std::size_t rows = column.distances.size();
+  std::vector<double> values;
+  values.reserve(rows * 2);
+  for (std::size_t i = 0; i < rows; ++i) {
+    values.push_back(column.distances[i]);
+    if (!column.labels.empty()) values.push_back(static_cast<double>(label_value(column.labels[i])));
   }
+  const std::vector<std::size_t> shape =
+      column.labels.empty() ? std::vector<std::size_t>{rows} : std::vector<std::size_t>{rows, 2};
+  const std::string header = exactgeo_cli::npy_header("<f8", shape);
+  const std::vector<unsigned char> data = exactgeo_cli::little_endian_bytes(values);
+  std::fwrite(header.data(), 1, header.size(), file);
   std::fwrite(data.data(), 1, data.size(), file);
 }
 
@@ -462,6 +507,25 @@ struct PathArguments {
   bool weld = false;
 };
 
+struct SampleArguments {
+  std::string mesh;
+  std::size_t count = 0;
+  std::uint32_t first = 0;
+  std::string out;
+  bool quiet = false;
+  bool weld = false;
+};
+
+struct MatrixArguments {
+  std::string mesh;
+  std::string sources;
+  double max_distance = std::numeric_limits<double>::infinity();
+  unsigned threads = 0;
+  std::string out;
+  bool quiet = false;
+  bool weld = false;
+};
+
 struct InfoArguments {
   std::string mesh;
   bool json = false;
@@ -519,7 +583,8 @@ int run_distance(const DistanceArguments& arguments) {
   const exactgeo::Mesh& mesh = loaded.mesh;
   const Sources sources = read_sources(arguments.sources, mesh);
   const std::vector<exactgeo::SurfacePoint> targets =
-      arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>() : read_targets(arguments.targets, mesh);
+      arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>()
+                                : parse_targets(list_text(arguments.targets), mesh, "--targets");
 
   exactgeo::GeodesicSolver solver(mesh);
   const exactgeo::GeodesicResult& result =
@@ -680,6 +745,97 @@ int run_path(const PathArguments& arguments) {
   return kExitOk;
 }
 
+// Samples one per line (.txt), or with the distance to the samples before each (.csv: sample,vertex,radius).
+int run_sample(const SampleArguments& arguments) {
+  const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.weld);
+  const exactgeo::Mesh& mesh = loaded.mesh;
+  Progress progress("samples", arguments.count, arguments.quiet);
+  const exactgeo::Sampling sampling = exactgeo::farthest_point_sampling(
+      mesh, arguments.count, arguments.first, {}, [&](std::size_t done) { progress.update(done); });
+  const auto write = [&](std::FILE* file, bool csv) {
+    if (csv) std::fputs("sample,vertex,radius\n", file);
+    for (std::size_t i = 0; i < sampling.samples.size(); ++i) {
+      if (csv) {
+        std::fprintf(file, "%zu,%u,", i, sampling.samples[i]);
+        print_distance(file, sampling.radii[i]);
+        std::fputc('\n', file);
+      } else {
+        std::fprintf(file, "%u\n", sampling.samples[i]);
+      }
+    }
+  };
+  if (arguments.out.empty()) {
+    write(stdout, false);
+  } else {
+    const bool csv = output_format(arguments.out) == OutputFormat::csv;
+    write_file(arguments.out, [&](std::FILE* file) { write(file, csv); });
+  }
+  return kExitOk;
+}
+
+// Rows are sources, columns vertices. .npy: dense float64 (inf beyond the cut-off), written block by block;
+// .npz: scipy.sparse CSR of the finite entries; .csv: source,vertex,distance for the finite entries.
+int run_matrix(const MatrixArguments& arguments) {
+  const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.weld);
+  const exactgeo::Mesh& mesh = loaded.mesh;
+  const std::vector<std::uint32_t> sources = parse_vertex_list(list_text(arguments.sources), "--sources");
+  exactgeo::MatrixOptions options;
+  options.geodesic.max_distance = arguments.max_distance;
+  options.threads = arguments.threads;
+  Progress progress("rows", sources.size(), arguments.quiet);
+  const std::size_t columns = mesh.vertex_count();
+  const std::string extension = std::filesystem::path(arguments.out).extension().string();
+  if (extension == ".npz") {
+    std::vector<double> data;
+    std::vector<std::int32_t> indices;
+    std::vector<std::int64_t> indptr = {0};
+    exactgeo::for_each_distance_block(mesh, sources, options, [&](std::size_t first, std::span<const double> rows) {
+      for (std::size_t r = 0; r < rows.size() / columns; ++r) {
+        for (std::size_t v = 0; v < columns; ++v) {
+          const double d = rows[r * columns + v];
+          if (std::isinf(d)) continue;
+          data.push_back(d);
+          indices.push_back(static_cast<std::int32_t>(v));
+        }
+        indptr.push_back(static_cast<std::int64_t>(data.size()));
+      }
+      progress.update(first + rows.size() / columns);
+    });
+    const std::vector<std::int64_t> shape = {static_cast<std::int64_t>(sources.size()), static_cast<std::int64_t>(columns)};
+    const std::vector<exactgeo_cli::NpzMember> members = {
+        {"indices", "<i4", {indices.size()}, exactgeo_cli::little_endian_bytes(indices)},
+        {"indptr", "<i8", {indptr.size()}, exactgeo_cli::little_endian_bytes(indptr)},
+        {"format", "|S3", {}, {'c', 's', 'r'}},
+        {"shape", "<i8", {2}, exactgeo_cli::little_endian_bytes(shape)},
+        {"data", "<f8", {data.size()}, exactgeo_cli::little_endian_bytes(data)},
+    };
+    exactgeo_cli::write_npz(arguments.out, members);
+    return kExitOk;
+  }
+  const bool csv = extension == ".csv";
+  write_file(arguments.out, [&](std::FILE* file) {
+    if (csv) {
+      std::fputs("source,vertex,distance\n", file);
+    } else {
+      const std::string header = exactgeo_cli::npy_header("<f8", std::vector<std::size_t>{sources.size(), columns});
+      std::fwrite(header.data(), 1, header.size(), file);
+    }
+    exactgeo::for_each_distance_block(mesh, sources, options, [&](std::size_t first, std::span<const double> rows) {
+      if (csv) {
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+          if (std::isinf(rows[i])) continue;
+          std::fprintf(file, "%zu,%zu,%.17g\n", first + i / columns, i % columns, rows[i]);
+        }
+      } else {
+        const std::vector<unsigned char> bytes = exactgeo_cli::little_endian_bytes(rows);
+        std::fwrite(bytes.data(), 1, bytes.size(), file);
+      }
+      progress.update(first + rows.size() / columns);
+    });
+  });
+  return kExitOk;
+}
+
 int run_info(const InfoArguments& arguments) {
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.weld);
   const exactgeo::MeshReport& report = loaded.mesh.report();
@@ -742,15 +898,7 @@ int main(int argc, char** argv) {
   distance_command
       ->add_option("--max-distance", distance.max_distance,
                    "Stop the wavefront at this distance; vertices farther away get inf")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            double value = 0;
-            const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-            if (ec != std::errc() || ptr != text.data() + text.size() || !(value >= 0))
-              return "'" + text + "' is not a non-negative distance";
-            return {};
-          },
-          "", "distance"))
+      ->check(kDistanceArgument)
       ->type_name("R");
   distance_command
       ->add_option("--targets", distance.targets,
@@ -802,6 +950,51 @@ int main(int argc, char** argv) {
   path_command->add_flag("--weld", path.weld, "Merge vertices with identical positions");
   path_command->footer(kExitCodesHelp);
 
+  SampleArguments sample;
+  CLI::App* sample_command = app.add_subcommand("sample", "Geodesic farthest-point sampling of the vertices");
+  sample_command->add_option("MESH", sample.mesh, kMeshHelp)->required()->check(kMeshArgument)->type_name("");
+  sample_command->add_option("-k,--count", sample.count, "Number of samples")->required()->type_name("N");
+  sample_command->add_option("--first", sample.first, "The first sample (default 0)")->type_name("I");
+  sample_command
+      ->add_option("--out", sample.out,
+                   "Write the samples: .txt (one vertex per line) or .csv (sample,vertex,radius: the distance "
+                   "to the samples before); without it they are printed")
+      ->check(kOutputArgument)
+      ->type_name("FILE.{txt,csv}");
+  sample_command->add_flag("--quiet", sample.quiet, "No progress line on stderr");
+  sample_command->add_flag("--weld", sample.weld, "Merge vertices with identical positions");
+  sample_command->footer(kExitCodesHelp);
+
+  MatrixArguments matrix;
+  CLI::App* matrix_command =
+      app.add_subcommand("matrix", "Distances from many source vertices to every vertex, in parallel");
+  matrix_command->add_option("MESH", matrix.mesh, kMeshHelp)->required()->check(kMeshArgument)->type_name("");
+  matrix_command
+      ->add_option("--sources", matrix.sources,
+                   "Source vertices, as a file or a list, separated by spaces, newlines, ',' or ';'")
+      ->required()
+      ->type_name("FILE|LIST");
+  matrix_command->add_option("--max-distance", matrix.max_distance, "Cut-off: entries beyond it are inf (or left out)")
+      ->check(kDistanceArgument)
+      ->type_name("R");
+  matrix_command->add_option("--threads", matrix.threads, "Worker threads (default: one per core)")->type_name("T");
+  matrix_command
+      ->add_option("--out", matrix.out,
+                   "Write the matrix (rows: sources, columns: vertices): .npy (dense float64), .npz "
+                   "(scipy.sparse CSR of the finite entries) or .csv (source,vertex,distance, finite entries)")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& file) -> std::string {
+            const std::string extension = std::filesystem::path(file).extension().string();
+            if (extension == ".npy" || extension == ".npz" || extension == ".csv") return {};
+            return "unsupported matrix file '" + file + "': the extension must be .npy, .npz or .csv";
+          },
+          "", "matrix output"))
+      ->type_name("FILE.{npy,npz,csv}");
+  matrix_command->add_flag("--quiet", matrix.quiet, "No progress line on stderr");
+  matrix_command->add_flag("--weld", matrix.weld, "Merge vertices with identical positions");
+  matrix_command->footer(kExitCodesHelp);
+
   InfoArguments info;
   CLI::App* info_command = app.add_subcommand("info", "What validation found in a mesh");
   info_command->add_option("MESH", info.mesh, kMeshHelp)->required()->check(kMeshArgument)->type_name("");
@@ -811,12 +1004,12 @@ int main(int argc, char** argv) {
 
   // CLI11 reports a mistyped command only as "A subcommand is required"; name it instead.
   const auto is_command = [&](const char* name) {
-    for (const CLI::App* command : {distance_command, path_command, info_command})
+    for (const CLI::App* command : {distance_command, path_command, sample_command, matrix_command, info_command})
       if (command->get_name() == name) return true;
     return false;
   };
   if (argc > 1 && argv[1][0] != '-' && !is_command(argv[1])) {
-    return usage_error(std::string("unknown command '") + argv[1] + "' (use distance, path or info)");
+    return usage_error(std::string("unknown command '") + argv[1] + "' (use distance, path, sample, matrix or info)");
   }
 
   try {
@@ -829,6 +1022,8 @@ int main(int argc, char** argv) {
   try {
     if (*distance_command) return run_distance(distance);
     if (*path_command) return run_path(path);
+    if (*sample_command) return run_sample(sample);
+    if (*matrix_command) return run_matrix(matrix);
     return run_info(info);
   } catch (const exactgeo::Error& e) {
     if (e.code() == exactgeo::ErrorCode::internal) {

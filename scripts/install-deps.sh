@@ -2,7 +2,7 @@
 # Installs the system packages the build and the tests need, if any is missing (Debian/Ubuntu, as root).
 set -euo pipefail
 packages=(g++ cmake ninja-build libcgal-dev libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev
-          libfast-float-dev)
+          libfast-float-dev libzip-dev pkg-config)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -83,16 +83,18 @@ SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::ui
 }
 
 Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first,
-                                 const GeodesicOptions& options) {
+                                 const GeodesicOptions& options, const std::function<void(std::size_t)>& progress) {
   Sampling sampling;
   if (count == 0) return sampling;
   GeodesicSolver solver(mesh);
   sampling.samples.push_back(first);
+  sampling.radii.push_back(HUGE_VAL);
   const GeodesicResult& start = solver.solve(std::span(&first, 1), {}, options);
   sampling.distances = start.distances;
   sampling.nearest_sample.assign(mesh.vertex_count(), kNoSource);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
     if (!std::isinf(sampling.distances[v])) sampling.nearest_sample[v] = 0;
+  if (progress) progress(1);
   while (sampling.samples.size() < count) {
     // The farthest vertex from the samples; nothing farther than it can get closer to the next sample's run.
     std::uint32_t farthest = kNoSource;
@@ -106,12 +108,14 @@ Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint3
     const GeodesicResult& run = solver.solve(std::span(&farthest, 1), {}, cut);
     const auto index = static_cast<std::uint32_t>(sampling.samples.size());
     sampling.samples.push_back(farthest);
+    sampling.radii.push_back(sampling.distances[farthest]);
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
       if (run.distances[v] < sampling.distances[v]) {
         sampling.distances[v] = run.distances[v];
         sampling.nearest_sample[v] = index;
       }
     }
+    if (progress) progress(sampling.samples.size());
   }
   return sampling;
 }

@@ -495,6 +495,95 @@ TEST_F(Cli, PathOnAFlatGridIsTheDiagonal) {
   EXPECT_NE(printed.out.find("path length"), std::string::npos) << printed.out;
 }
 
+// Reads a 2-D little-endian float64 .npy (rows x columns).
+std::vector<double> parse_npy_matrix(const fs::path& path, std::size_t rows, std::size_t columns) {
+  const std::string bytes = read_file(path);
+  const std::size_t header_length = std::uint8_t(bytes[8]) | std::size_t(std::uint8_t(bytes[9])) << 8;
+  const std::string header = bytes.substr(10, header_length);
+  EXPECT_NE(header.find("'shape': (" + std::to_string(rows) + ", " + std::to_string(columns) + ")"), std::string::npos)
+      << header;
+  EXPECT_EQ(bytes.size(), 10 + header_length + rows * columns * 8);
+  std::vector<double> values(rows * columns);
+  for (std::size_t i = 0; i < values.size() && 10 + header_length + 8 * i + 8 <= bytes.size(); ++i) {
+    std::uint64_t bits = 0;
+    for (std::size_t byte = 0; byte < 8; ++byte)
+      bits |= std::uint64_t(std::uint8_t(bytes[10 + header_length + 8 * i + byte])) << (8 * byte);
+    values[i] = std::bit_cast<double>(bits);
+  }
+  return values;
+}
+
+TEST_F(Cli, MatrixRowsAreDistanceRunsInEveryFormat) {
+  write_file(path("sources.txt"), "0\n17;200 5\n");
+  ASSERT_EQ(run("matrix @torus:24:10 --sources " + arg("sources.txt") + " --threads 2 --out " + arg("m.npy")).exit_code, 0);
+  const std::vector<std::uint32_t> sources = {0, 17, 200, 5};
+  const std::size_t n = 240;
+  const std::vector<double> matrix = parse_npy_matrix(path("m.npy"), sources.size(), n);
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    ASSERT_EQ(run("distance @torus:24:10 --source " + std::to_string(sources[i]) + " --out " + arg("d.npy")).exit_code, 0);
+    const std::vector<double> row = parse_npy(path("d.npy"));
+    expect_bitwise_equal(std::vector<double>(matrix.begin() + i * n, matrix.begin() + (i + 1) * n), row);
+  }
+  // With a cut-off: the CSV holds exactly the finite entries of the dense matrix.
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0,17,200,5 --max-distance 1.5 --out " + arg("m.csv")).exit_code, 0);
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0,17,200,5 --max-distance 1.5 --out " + arg("cut.npy")).exit_code, 0);
+  const std::vector<double> cut = parse_npy_matrix(path("cut.npy"), sources.size(), n);
+  std::istringstream rows(read_file(path("m.csv")));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "source,vertex,distance");
+  std::size_t finite = 0;
+  for (double d : cut) finite += std::isfinite(d);
+  std::size_t listed = 0;
+  while (std::getline(rows, line)) {
+    std::size_t source = 0, vertex = 0;
+    double d = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%zu,%zu,%lf", &source, &vertex, &d), 3) << line;
+    EXPECT_EQ(d, cut[source * n + vertex]) << line;
+    EXPECT_LE(d, 1.5);
+    ++listed;
+  }
+  EXPECT_EQ(listed, finite);
+  EXPECT_LT(finite, cut.size());
+  // .npz: a zip archive with scipy's CSR members.
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0,17 --max-distance 1.5 --out " + arg("m.npz")).exit_code, 0);
+  const std::string npz = read_file(path("m.npz"));
+  EXPECT_EQ(npz.rfind("PK", 0), 0u);
+  for (const char* member : {"indices.npy", "indptr.npy", "format.npy", "shape.npy", "data.npy"})
+    EXPECT_NE(npz.find(member), std::string::npos) << member;
+}
+
+TEST_F(Cli, SampleSpreadsOutFromTheFirstVertex) {
+  const RunResult printed = run("sample @icosphere:2 -k 6 --first 3");
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  std::istringstream lines(printed.out);
+  std::vector<int> samples;
+  for (int v; lines >> v;) samples.push_back(v);
+  ASSERT_EQ(samples.size(), 6u);
+  EXPECT_EQ(samples[0], 3);
+  ASSERT_EQ(run("sample @icosphere:2 -k 6 --first 3 --out " + arg("s.csv")).exit_code, 0);
+  std::istringstream rows(read_file(path("s.csv")));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "sample,vertex,radius");
+  double previous = kInf;
+  for (std::size_t i = 0; std::getline(rows, line); ++i) {
+    std::size_t index = 0;
+    int vertex = 0;
+    char radius[64] = {};
+    ASSERT_EQ(std::sscanf(line.c_str(), "%zu,%d,%63s", &index, &vertex, radius), 3) << line;
+    EXPECT_EQ(vertex, samples[i]);
+    const double r = std::strtod(radius, nullptr);
+    EXPECT_LE(r, previous) << "radii shrink";
+    previous = r;
+  }
+  // The second sample on a sphere is the antipode: half the great circle, a bit less on the polyhedron.
+  EXPECT_LT(previous, kInf);
+  expect_error(run("sample @icosphere:2 -k 3 --first 9999"), 2, "9999");
+  expect_error(run("matrix @icosphere:2 --sources 1,x --out " + arg("m.npy")), 2, "'x'");
+  expect_error(run("matrix @icosphere:2 --sources 1 --out " + arg("m.txt")), 1, "m.txt");
+}
+
 TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
   expect_error(run("distance @grid:4:4 --source-point 99:0.2,0.3,0.5"), 2, "face 99");
   expect_error(run("distance @grid:4:4 --source-point 3:0.2,0.3,0.9"), 2, "not barycentric");

@@ -96,6 +96,7 @@ TEST(FarthestPointSampling, EachSampleIsFarthestFromThePreviousOnes) {
     if (k > 0) {
       const double best = *std::max_element(nearest.begin(), nearest.end());
       EXPECT_NEAR(nearest[sampling.samples[k]], best, 1e-12 * best) << "sample " << k;
+      EXPECT_NEAR(sampling.radii[k], best, 1e-12 * best) << "sample " << k;
     }
     const auto run = exactgeo::geodesic_distance(mesh, sampling.samples[k]).distances;
     for (std::size_t v = 0; v < nearest.size(); ++v) nearest[v] = std::min(nearest[v], run[v]);

@@ -41,15 +41,19 @@ SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::ui
                                        const MatrixOptions& options = {});
 
 // Geodesic farthest-point sampling: starting from `first`, each next sample is the vertex farthest from all
-// samples so far (ties to the lowest index). Stops early if every reachable vertex is a sample. Each run
+// samples so far (ties to the lowest index). Stops early if every vertex reachable from `first` is a
+// sample; vertices on other pieces of the mesh are never sampled. `progress`, if given, is called with the
+// number of samples taken so far after each one. Each run
 // after the first is cut off at the current largest distance to the samples, beyond which it cannot change
 // anything, so later samples cost less.
 struct Sampling {
   std::vector<std::uint32_t> samples;
+  std::vector<double> radii;      // per sample: its distance to the samples before it (+inf for the first)
   std::vector<double> distances;  // per input vertex: to the nearest sample (+inf where unreachable)
   std::vector<std::uint32_t> nearest_sample;  // per input vertex: index into samples, kNoSource if unreachable
 };
 Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first = 0,
-                                 const GeodesicOptions& options = {});
+                                 const GeodesicOptions& options = {},
+                                 const std::function<void(std::size_t samples)>& progress = {});
 
 }  // namespace exactgeo
