@@ -25,6 +25,7 @@ test: build
 bench: build
 	python3 -m pip install -q -r bench/requirements.txt
 	python3 bench/run.py --build-dir $(BUILD_DIR)
+	python3 bench/many_sources.py --build-dir $(BUILD_DIR)
 
 bench-quick: build
 	python3 -m pip install -q -r bench/requirements.txt

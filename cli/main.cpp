@@ -264,8 +264,12 @@ class Progress {
   Progress(std::string what, std::size_t total, bool quiet)
       : what_(std::move(what)), total_(total), enabled_(!quiet && ::isatty(::fileno(stderr))),
         start_(std::chrono::steady_clock::now()) {}
-  ~Progress() {
+  ~Progress() { finish(); }
+  // Ends the line, if one was shown, before anything else is printed.
+  void finish() {
     if (shown_) std::fputc('\n', stderr);
+    shown_ = false;
+    enabled_ = false;
   }
   void update(std::size_t done) {
     if (!enabled_ || seconds_since(start_) < 1.0) return;
@@ -496,6 +500,7 @@ struct DistanceArguments {
   std::string out;
   std::string target_out;
   std::string stats;
+  bool quiet = false;
   bool weld = false;
 };
 
@@ -587,8 +592,13 @@ int run_distance(const DistanceArguments& arguments) {
                                 : parse_targets(list_text(arguments.targets), mesh, "--targets");
 
   exactgeo::GeodesicSolver solver(mesh);
+  Progress progress("vertices", mesh.vertex_count(), arguments.quiet);
+  solver.set_progress([&](double fraction) {
+    progress.update(static_cast<std::size_t>(fraction * static_cast<double>(mesh.vertex_count())));
+  });
   const exactgeo::GeodesicResult& result =
       solve(solver, sources, targets, exactgeo::GeodesicOptions{.max_distance = arguments.max_distance});
+  progress.finish();
   const exactgeo::GeodesicStats& stats = result.stats;
 
   double max_distance = 0.0;
@@ -923,6 +933,7 @@ int main(int argc, char** argv) {
       ->check(kOutputArgument)
       ->type_name("FILE.{txt,csv,npy}");
   distance_command->add_option("--stats", distance.stats, "Write statistics as JSON")->type_name("FILE.json");
+  distance_command->add_flag("--quiet", distance.quiet, "No progress line on stderr");
   distance_command->add_flag("--weld", distance.weld, "Merge vertices with identical positions");
   distance_command->footer(kExitCodesHelp);
 

@@ -32,6 +32,7 @@ std::vector<detail::LocatedPoint> locate_all(const detail::SurfaceMesh& surface,
 GeodesicSolver::GeodesicSolver(const Mesh& mesh)
     : mesh_(&mesh), engine_(std::make_unique<detail::VtpEngine>(mesh.surface())) {}
 GeodesicSolver::~GeodesicSolver() = default;
+void GeodesicSolver::set_progress(std::function<void(double)> callback) { engine_->set_progress(std::move(callback)); }
 GeodesicSolver::GeodesicSolver(GeodesicSolver&&) noexcept = default;
 GeodesicSolver& GeodesicSolver::operator=(GeodesicSolver&&) noexcept = default;
 

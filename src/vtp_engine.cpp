@@ -75,6 +75,9 @@ class ShadowCone {
 
 double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
 
+// Vertex pops between two progress reports.
+constexpr std::uint64_t kProgressInterval = 4096;
+
 // The directions around v (as fan angles, see SurfaceMesh) into which a shortest path arriving at v as
 // `a` says can continue without being shortcut: at least pi from the arrival direction on both sides.
 ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Arrival& a) {
@@ -134,6 +137,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
     state_[v] = VertexState::inside;
     ++iteration_;
     ++stats_.vertex_pops;
+    if (progress_ && stats_.vertex_pops % kProgressInterval == 0)
+      progress_(static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
     if (bends_paths(v)) emit(v);
     for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
       const std::uint32_t f = face_of(mesh_.vertex_corners[i]);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -48,6 +49,7 @@ class VtpEngine {
 
   void run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
            const GeodesicOptions& options);
+  void set_progress(std::function<void(double)> callback) { progress_ = std::move(callback); }
 
   // Distances above the cut-off are not final: reported as +inf.
   double cutoff() const { return cutoff_; }
@@ -86,6 +88,7 @@ class VtpEngine {
 
   const SurfaceMesh& mesh_;
   GeodesicOptions options_;
+  std::function<void(double)> progress_;
   Tolerances tolerances_{};
   GeodesicStats stats_;
   double cutoff_ = HUGE_VAL;

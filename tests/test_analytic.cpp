@@ -18,6 +18,7 @@
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/shapes.hpp"
+#include "exactgeo/surface_point.hpp"
 #include "test_meshes.hpp"
 
 namespace {
@@ -627,6 +628,31 @@ TEST_P(AnalyticDistance, CubeSurface) {
         const Vec3 p = vertex_position(soup, v);
         EXPECT_NEAR(d[v], d[vertex_at(soup, {p[1], p[2], p[0]})], 1e-15 * 3) << "vertex " << v;
       }
+    }
+  }
+}
+
+TEST_P(AnalyticDistance, CubeSurfacePointsAndTheirPaths) {
+  const MeshSoup soup = cube_surface_mesh(4);
+  const exactgeo::Mesh mesh(soup);
+  const ConvexPolyhedron cube = unit_cube();
+  Random random(8);
+  const auto random_point = [&] {
+    const double u = random.uniform(0, 1), v = random.uniform(0, 1);
+    return exactgeo::SurfacePoint{random.below(exactgeo_test::face_count(soup)),
+                                  {std::min(u, v), std::max(u, v) - std::min(u, v), 1 - std::max(u, v)}};
+  };
+  exactgeo::GeodesicSolver solver(mesh);
+  for (int trial = 0; trial < 6; ++trial) {
+    const exactgeo::SurfacePoint source = random_point();
+    std::vector<exactgeo::SurfacePoint> targets;
+    for (int i = 0; i < 10; ++i) targets.push_back(random_point());
+    const auto& result = solver.solve(std::span(&source, 1), targets, GetParam());
+    const Vec3 s = exactgeo::point_position(mesh, source);
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+      const double expected = cube.surface_distance(s, exactgeo::point_position(mesh, targets[t]));
+      EXPECT_NEAR(result.target_distances[t], expected, kExact * 3) << "trial " << trial << " target " << t;
+      EXPECT_NEAR(solver.path_to_target(t).length, expected, 1e-9 * 3) << "trial " << trial << " target " << t;
     }
   }
 }

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <span>
@@ -94,6 +95,10 @@ class GeodesicSolver {
   const GeodesicResult& solve(std::span<const std::uint32_t> source_vertices,
                               std::span<const SurfacePoint> targets = {}, const GeodesicOptions& options = {});
   const GeodesicResult& result() const { return result_; }
+
+  // Called now and then during each run, on the calling thread, with the fraction of the mesh's vertices
+  // that the wavefront has passed (0 to 1). Empty: no calls.
+  void set_progress(std::function<void(double fraction)> callback);
 
   // The shortest path of the last run from its nearest source to input vertex `vertex`, or to target
   // `target` (an index into the last run's targets).
