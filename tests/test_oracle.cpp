@@ -104,12 +104,14 @@ exactgeo::SurfacePoint random_face_point(const exactgeo::MeshSoup& soup, exactge
   return {face, b};
 }
 
+// The generated torus, or a shared mesh (nullopt when the shared meshes are absent).
+std::optional<exactgeo::MeshSoup> point_test_mesh(const std::string& name) {
+  if (name == "bumpy_torus") return exactgeo::make_bumpy_torus(48, 20);
+  return exactgeo_test::load_shared_mesh(name + ".obj");
+}
+
 TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
-  std::optional<exactgeo::MeshSoup> soup;
-  if (GetParam() == "bumpy_torus")
-    soup = exactgeo::make_bumpy_torus(48, 20);
-  else
-    soup = exactgeo_test::load_shared_mesh(GetParam() + ".obj");
+  const std::optional<exactgeo::MeshSoup> soup = point_test_mesh(GetParam());
   if (!soup) GTEST_SKIP() << exactgeo_test::kNoSharedMeshesMessage;
   const exactgeo::Mesh mesh(*soup);
   exactgeo_test::Random random(4242);
@@ -158,11 +160,7 @@ TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
 }
 
 TEST_P(OraclePointTest, EdgeSourcesMatchCgalOnTheSplitMesh) {
-  std::optional<exactgeo::MeshSoup> soup;
-  if (GetParam() == "bumpy_torus")
-    soup = exactgeo::make_bumpy_torus(48, 20);
-  else
-    soup = exactgeo_test::load_shared_mesh(GetParam() + ".obj");
+  const std::optional<exactgeo::MeshSoup> soup = point_test_mesh(GetParam());
   if (!soup) GTEST_SKIP() << exactgeo_test::kNoSharedMeshesMessage;
   const exactgeo::Mesh mesh(*soup);
   exactgeo_test::Random random(77);
@@ -188,11 +186,7 @@ TEST_P(OraclePointTest, EdgeSourcesMatchCgalOnTheSplitMesh) {
 
 // Targets on edges, boundary edges first, as vertices of the mesh split there.
 TEST_P(OraclePointTest, EdgeTargetsMatchCgalOnTheSplitMesh) {
-  std::optional<exactgeo::MeshSoup> soup;
-  if (GetParam() == "bumpy_torus")
-    soup = exactgeo::make_bumpy_torus(48, 20);
-  else
-    soup = exactgeo_test::load_shared_mesh(GetParam() + ".obj");
+  const std::optional<exactgeo::MeshSoup> soup = point_test_mesh(GetParam());
   if (!soup) GTEST_SKIP() << exactgeo_test::kNoSharedMeshesMessage;
   const exactgeo::Mesh mesh(*soup);
   exactgeo_test::Random random(99);
