@@ -299,12 +299,18 @@ const CLI::Validator kDistanceArgument(
 // ---------------------------------------------------------------------------------------------------
 // Output files.
 
+// A file's extension in lower case (".npy"): every output format is chosen by it, whatever its case.
+std::string extension_of(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return extension;
+}
+
 enum class OutputFormat { txt, csv, npy, ply };
 
 std::optional<OutputFormat> output_format(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string extension = extension_of(path.string());
   if (extension == ".txt") return OutputFormat::txt;
   if (extension == ".csv") return OutputFormat::csv;
   if (extension == ".npy") return OutputFormat::npy;
@@ -676,8 +682,7 @@ int run_distance(const DistanceArguments& arguments) {
 // A path as CSV (x,y,z,kind,a,b,t: the vertex, the edge's two vertices and parameter, or the face and two
 // of its barycentric weights), OBJ (a polyline) or JSON.
 void write_path(const std::string& path_file, const exactgeo::GeodesicPath& path) {
-  std::string extension = std::filesystem::path(path_file).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string extension = extension_of(path_file);
   using Kind = exactgeo::PathPointLocation::Kind;
   if (extension == ".json") {
     nlohmann::ordered_json json;
@@ -794,7 +799,7 @@ int run_matrix(const MatrixArguments& arguments) {
   options.threads = arguments.threads;
   Progress progress("rows", sources.size(), arguments.quiet);
   const std::size_t columns = mesh.vertex_count();
-  const std::string extension = std::filesystem::path(arguments.out).extension().string();
+  const std::string extension = extension_of(arguments.out);
   if (extension == ".npz") {
     std::vector<double> data;
     std::vector<std::int32_t> indices;
@@ -950,9 +955,7 @@ int main(int argc, char** argv) {
                    "without it the points are printed")
       ->check(CLI::Validator(
           [](std::string& file) -> std::string {
-            std::string extension = std::filesystem::path(file).extension().string();
-            std::transform(extension.begin(), extension.end(), extension.begin(),
-                           [](unsigned char c) { return char(std::tolower(c)); });
+            const std::string extension = extension_of(file);
             if (extension == ".csv" || extension == ".obj" || extension == ".json") return {};
             return "unsupported path file '" + file + "': the extension must be .csv, .obj or .json";
           },
@@ -996,7 +999,7 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::Validator(
           [](std::string& file) -> std::string {
-            const std::string extension = std::filesystem::path(file).extension().string();
+            const std::string extension = extension_of(file);
             if (extension == ".npy" || extension == ".npz" || extension == ".csv") return {};
             return "unsupported matrix file '" + file + "': the extension must be .npy, .npz or .csv";
           },

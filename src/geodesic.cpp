@@ -39,10 +39,9 @@ GeodesicSolver& GeodesicSolver::operator=(GeodesicSolver&&) noexcept = default;
 const GeodesicResult& GeodesicSolver::solve(std::span<const SurfacePoint> sources,
                                             std::span<const SurfacePoint> targets, const GeodesicOptions& options) {
   if (sources.empty()) throw Error(ErrorCode::invalid_argument, "no source given");
+  const std::vector<detail::LocatedPoint> located = locate_all(mesh_->surface(), sources, "source");
   std::vector<detail::SourceSite> sites;
-  const detail::SurfaceMesh& surface = mesh_->surface();
-  for (std::uint32_t i = 0; i < sources.size(); ++i)
-    sites.push_back({detail::locate(surface, sources[i], "source " + std::to_string(i)), i});
+  for (std::uint32_t i = 0; i < located.size(); ++i) sites.push_back({located[i], i});
   return run(sites, targets, options);
 }
 
