@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: deps build demo test bench bench-quick clean
+.PHONY: deps build python demo test bench bench-quick clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -12,20 +12,29 @@ build: deps
 	cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# The Python package, installed into python3's environment with its test requirements. Compiled in
+# $(BUILD_DIR)/pip and kept there, so a second run recompiles only what changed (hence no build isolation,
+# whose temporary environment would differ each time).
+python: deps
+	python3 -m pip install -q -r python/requirements-test.txt
+	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip .
+
 # Exact distances on the built-in bumpy torus from vertex 0, with a summary.
 demo: build
 	$(BUILD_DIR)/cli/exactgeo distance @torus --source 0
 
-test: build
+test: build python
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	python3 -m pip install -q -r bench/requirements-test.txt
 	python3 -m pytest -q bench
+	EXACTGEO_BUILD_DIR=$(BUILD_DIR) python3 -m pytest -q python/tests
 
 # Timings against the other solvers, written to bench/results/ (see bench/README.md).
-bench: build
+bench: build python
 	python3 -m pip install -q -r bench/requirements.txt
 	python3 bench/run.py --build-dir $(BUILD_DIR)
 	python3 bench/many_sources.py --build-dir $(BUILD_DIR)
+	python3 bench/python_level.py
 
 bench-quick: build
 	python3 -m pip install -q -r bench/requirements.txt

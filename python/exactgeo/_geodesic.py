@@ -1,0 +1,190 @@
+"""Exact geodesic distances and shortest paths: the reusable solver and the one-off functions over it."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, Literal, TypedDict, overload
+
+import numpy as np
+
+from . import _core, _inputs
+from ._mesh import Mesh
+from ._surface_point import SurfacePoint, SurfacePoints, Sites, source_sites, target_points
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
+ALGORITHMS: tuple[str, ...] = tuple(_core.algorithm_names())
+"""Names accepted by the `algorithm` option."""
+
+
+class AlgorithmOptions(TypedDict, total=False):
+    """Keyword arguments that choose how the engine runs (C++: exactgeo::GeodesicOptions). Every one has the
+    library's default; distances are exact whatever they are."""
+
+    algorithm: str  # one of ALGORITHMS; "vtp": the paper's final algorithm
+    rule1: bool  # paper Section 4.1: prune with the window list's separating point
+    rule23: bool  # paper Sections 4.2-4.3: pairwise checks between neighbouring windows
+
+
+_OPTION_NAMES = frozenset(AlgorithmOptions.__annotations__)
+
+
+def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _core.GeodesicOptions:
+    unknown = sorted(options.keys() - _OPTION_NAMES)
+    if unknown:
+        raise TypeError(f"unexpected keyword argument {unknown[0]!r} (options: {', '.join(sorted(_OPTION_NAMES))})")
+    return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **options)
+
+
+@dataclasses.dataclass(frozen=True)
+class GeodesicResult:
+    """What a run computed (C++: exactgeo::GeodesicResult)."""
+
+    distances: np.ndarray  # (vertex_count,) float64: to the nearest source, inf if unreachable or cut off
+    nearest_source: np.ndarray  # (vertex_count,) int64: index into the sources, -1 where distances is inf
+    target_distances: np.ndarray  # (targets,) float64, likewise per target
+    target_nearest_source: np.ndarray  # (targets,) int64
+    stats: dict[str, float]  # the engine's counters and its time (C++: exactgeo::GeodesicStats)
+
+
+@dataclasses.dataclass(frozen=True)
+class GeodesicPath:
+    """A shortest path from the nearest source to a point, straight inside each face (C++: exactgeo::GeodesicPath).
+
+    Each point is a convex combination of up to three input vertices: points[i] equals
+    sum_k weights[i, k] * mesh.vertices[vertices[i, k]] over the k with vertices[i, k] >= 0.
+    Empty arrays, length inf and source -1 if the point is unreachable.
+    """
+
+    points: np.ndarray  # (k, 3) float64, from the source to the point
+    kind: np.ndarray  # (k,) str: "vertex", "edge" or "face", where each point lies
+    vertices: np.ndarray  # (k, 3) int64: the vertex; the edge's two ends; the face's three corners; -1 unused
+    weights: np.ndarray  # (k, 3) float64: 1; (1 - t, t) along the edge; the barycentric coordinates
+    face: np.ndarray  # (k,) int64: the input face of "face" points, -1 for the others
+    length: float
+    source: int  # index into the sources
+
+    @classmethod
+    def _of(cls, arrays: tuple) -> GeodesicPath:
+        points, kind, vertices, weights, face, length, source = arrays
+        return cls(points, np.asarray(kind, dtype=str), vertices, weights, face, length, source)
+
+
+_NO_TARGETS = SurfacePoints(np.empty(0, dtype=np.uint32), np.empty((0, 3)))
+
+
+class GeodesicSolver:
+    """A reusable solver on one mesh (C++: exactgeo::GeodesicSolver): keeps the engine's buffers between
+    runs, and answers path queries about its last run.
+
+    The GIL is released while it runs, so solvers in several threads run in parallel; one solver used from
+    several threads runs one call at a time.
+    """
+
+    def __init__(self, mesh: Mesh) -> None:
+        self._mesh = mesh
+        self._core = _core.GeodesicSolver(mesh._core)
+
+    @property
+    def mesh(self) -> Mesh:
+        return self._mesh
+
+    def solve(
+        self,
+        sources: Sites,
+        targets: Sites | None = None,
+        *,
+        max_distance: float | None = None,
+        **options: Unpack[AlgorithmOptions],
+    ) -> GeodesicResult:
+        """Distances from the nearest of `sources` to every vertex, and to `targets` if given.
+
+        Sources and targets are vertex indices (an int, a list or an array of any integer dtype), a
+        SurfacePoint, a list of them, or SurfacePoints. A vertex source split by the mesh into several
+        surface copies (non-manifold) is a source at each; a vertex target is the point at the vertex on its
+        first face. With targets, the run stops as soon as they are final: vertex distances are then exact up
+        to the farthest target and inf beyond. `max_distance`: nothing farther is computed (inf).
+        """
+        config = geodesic_options(max_distance, options)
+        ends = _NO_TARGETS if targets is None else target_points(targets, self._mesh)
+        starts = source_sites(sources, self._mesh)
+        if isinstance(starts, SurfacePoints):
+            arrays = self._core.solve_from_points(starts.faces, starts.barycentric, ends.faces, ends.barycentric, config)
+        else:
+            arrays = self._core.solve_from_vertices(starts, ends.faces, ends.barycentric, config)
+        return GeodesicResult(*arrays)
+
+    def path_to_vertex(self, vertex: int) -> GeodesicPath:
+        """The shortest path of the last run to input vertex `vertex`."""
+        checked = _inputs.vertex_array(vertex, self._mesh.vertex_count, "vertex", lambda i: "vertex")
+        return GeodesicPath._of(self._core.path_to_vertex(int(checked[0])))
+
+    def path_to_target(self, target: int) -> GeodesicPath:
+        """The shortest path of the last run to its target number `target`."""
+        return GeodesicPath._of(self._core.path_to_target(_inputs.count(target, "target")))
+
+
+@overload
+def distance(
+    mesh: Mesh,
+    sources: Sites,
+    *,
+    targets: Sites | None = None,
+    max_distance: float | None = None,
+    return_nearest: Literal[False] = False,
+    **options: Unpack[AlgorithmOptions],
+) -> np.ndarray: ...
+@overload
+def distance(
+    mesh: Mesh,
+    sources: Sites,
+    *,
+    targets: Sites | None = None,
+    max_distance: float | None = None,
+    return_nearest: Literal[True],
+    **options: Unpack[AlgorithmOptions],
+) -> tuple[np.ndarray, np.ndarray]: ...
+def distance(
+    mesh: Mesh,
+    sources: Sites,
+    *,
+    targets: Sites | None = None,
+    max_distance: float | None = None,
+    return_nearest: bool = False,
+    **options: Unpack[AlgorithmOptions],
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """Exact geodesic distance from the nearest of `sources`: float64, inf where unreachable or cut off.
+
+    Without `targets`, one distance per input vertex. With `targets` (vertex indices or surface points),
+    one distance per target, in their order; the run stops as soon as they are final, so a few nearby
+    targets cost a fraction of a full run. `return_nearest=True` also returns, per vertex or target, the
+    index of the nearest source (int64, -1 where the distance is inf). See GeodesicSolver.solve for the
+    forms sources and targets take.
+    """
+    result = GeodesicSolver(mesh).solve(sources, targets, max_distance=max_distance, **options)
+    if targets is None:
+        values, nearest = result.distances, result.nearest_source
+    else:
+        values, nearest = result.target_distances, result.target_nearest_source
+    return (values, nearest) if return_nearest else values
+
+
+def path(
+    mesh: Mesh,
+    sources: Sites,
+    target: int | SurfacePoint,
+    *,
+    max_distance: float | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> GeodesicPath:
+    """The shortest path from the nearest of `sources` to `target`, a vertex index or a SurfacePoint.
+
+    Its length equals the geodesic distance (to about 1e-12 relative); it bends only at saddle and boundary
+    vertices. The run stops once the target is final.
+    """
+    solver = GeodesicSolver(mesh)
+    solver.solve(sources, target, max_distance=max_distance, **options)
+    if isinstance(target, SurfacePoint):
+        return solver.path_to_target(0)
+    return solver.path_to_vertex(target)

@@ -1,0 +1,97 @@
+"""Work over many sources: distance matrices across sources on every core, farthest-point sampling."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, overload
+
+import numpy as np
+
+from . import _core, _inputs
+from ._geodesic import AlgorithmOptions, geodesic_options
+from ._mesh import Mesh
+from ._surface_point import VertexIndices
+
+if TYPE_CHECKING:
+    from scipy.sparse import csr_array
+    from typing_extensions import Unpack
+
+
+@overload
+def distance_matrix(
+    mesh: Mesh,
+    sources: VertexIndices,
+    *,
+    max_distance: None = None,
+    threads: int | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> np.ndarray: ...
+@overload
+def distance_matrix(
+    mesh: Mesh,
+    sources: VertexIndices,
+    *,
+    max_distance: float,
+    threads: int | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> csr_array: ...
+def distance_matrix(
+    mesh: Mesh,
+    sources: VertexIndices,
+    *,
+    max_distance: float | None = None,
+    threads: int | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> np.ndarray | csr_array:
+    """Distances from each source vertex (rows) to every input vertex (columns).
+
+    Without `max_distance`: a dense (sources, vertex_count) float64 ndarray, inf where unreachable. With it:
+    a scipy.sparse.csr_array holding the distances up to `max_distance` (the 0 at each source included, as
+    an explicit entry); entries not stored are beyond the cut-off or unreachable. Each run stops at the
+    cut-off, so a small radius costs a fraction of the dense matrix.
+
+    One source per thread, `threads` of them (default: one per core), with the GIL released; rows are
+    identical whatever the thread count.
+    """
+    vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
+    config = geodesic_options(max_distance, options)
+    workers = 0 if threads is None else _inputs.count(threads, "threads", minimum=1)  # 0: one per core
+    if max_distance is None:
+        return _core.distance_matrix(mesh._core, vertices, config, workers)
+    try:
+        import scipy.sparse
+    except ImportError:
+        raise ImportError("a distance matrix with max_distance is a scipy.sparse matrix: pip install scipy") from None
+    values, columns, row_offsets = _core.sparse_distance_matrix(mesh._core, vertices, config, workers)
+    return scipy.sparse.csr_array((values, columns, row_offsets), shape=(len(vertices), mesh.vertex_count))
+
+
+@dataclasses.dataclass(frozen=True)
+class Sampling:
+    """Result of farthest_point_sampling (C++: exactgeo::Sampling)."""
+
+    samples: np.ndarray  # (k,) int64 vertex indices, in the order taken
+    radii: np.ndarray  # (k,) float64: each sample's distance to the samples before it (inf for the first)
+    distances: np.ndarray  # (vertex_count,) float64: to the nearest sample, inf where unreachable
+    nearest_sample: np.ndarray  # (vertex_count,) int64: index into samples, -1 where unreachable
+
+
+def farthest_point_sampling(
+    mesh: Mesh,
+    count: int,
+    *,
+    first: int = 0,
+    max_distance: float | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> Sampling:
+    """Geodesic farthest-point sampling: from `first`, each next sample is the vertex farthest from all
+    samples so far (ties to the lowest index).
+
+    Stops early once every vertex reachable from `first` is a sample; vertices on other pieces of the mesh
+    are never sampled. Each run after the first stops at the current largest distance, so later samples
+    cost less.
+    """
+    taken = _inputs.count(count, "count")
+    start = _inputs.vertex_array(first, mesh.vertex_count, "first", lambda i: "source vertex")
+    arrays = _core.farthest_point_sampling(mesh._core, taken, int(start[0]), geodesic_options(max_distance, options))
+    return Sampling(*arrays)

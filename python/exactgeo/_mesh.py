@@ -1,0 +1,70 @@
+"""exactgeo.Mesh: a validated triangle mesh, built once, shared by every query on it."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from . import _core, _inputs
+
+
+class Mesh:
+    """A triangle mesh ready for geodesic queries (C++: exactgeo::Mesh).
+
+    `vertices` is (n, 3) coordinates and `faces` is (m, 3) zero-based vertex indices, of any real and any
+    integer dtype respectively (float indices must be whole numbers), C or Fortran order, or nested lists.
+    Real-world meshes are accepted as they are: vertices used by no face (distance inf), faces repeating a
+    vertex (dropped), degenerate faces, holes, several components, non-manifold edges and vertices (cut into
+    a manifold surface), see `report`. Raises ValueError, with the library's message naming the element,
+    for non-finite coordinates, indices out of range or a mesh without a usable face.
+
+    `weld_duplicate_positions` merges vertices with identical coordinates (seams) before anything else.
+    """
+
+    __slots__ = ("_core",)
+
+    def __init__(self, vertices: object, faces: object, *, weld_duplicate_positions: bool = False) -> None:
+        positions = _inputs.real_array(vertices, "vertices", columns=3)
+        triangles = _inputs.triangles_array(faces, len(positions))
+        self._core = _core.Mesh(positions, triangles, bool(weld_duplicate_positions))
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str], *, weld_duplicate_positions: bool = False) -> Mesh:
+        """Reads an .obj, .ply (ASCII or binary), .off or .stl file; polygons are fan-triangulated.
+
+        Raises OSError if the file cannot be read, ValueError naming the line or element if its content is
+        malformed.
+        """
+        mesh = cls.__new__(cls)
+        mesh._core = _core.load_mesh(os.fspath(path), bool(weld_duplicate_positions))
+        return mesh
+
+    @property
+    def vertex_count(self) -> int:
+        """Input vertices, used by a face or not."""
+        return self._core.vertex_count
+
+    @property
+    def face_count(self) -> int:
+        """Input triangles, dropped ones included."""
+        return self._core.face_count
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """(vertex_count, 3) float64, a read-only view of the mesh's own storage."""
+        return self._core.positions
+
+    @property
+    def faces(self) -> np.ndarray:
+        """(face_count, 3) uint32, a read-only view of the mesh's own storage."""
+        return self._core.triangles
+
+    @property
+    def report(self) -> dict[str, int]:
+        """What validation found: counts of dropped and degenerate faces, boundary and non-manifold edges,
+        split vertices, components, saddle vertices (the fields of C++ exactgeo::MeshReport)."""
+        return self._core.report
+
+    def __repr__(self) -> str:
+        return f"exactgeo.Mesh(vertex_count={self.vertex_count}, face_count={self.face_count})"

@@ -1,0 +1,142 @@
+"""Points anywhere on the surface: a face and barycentric coordinates, one at a time or many as arrays.
+
+Barycentric coordinates off by rounding are taken as meant (each down to -1e-6, their sum within 1e-6 of 1:
+clamped and rescaled; below 1e-12 snapped to 0); anything else is rejected by the library when the point is
+used, with a message naming the source or target.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import operator
+from collections.abc import Sequence
+from typing import Union
+
+import numpy as np
+
+from . import _core, _inputs
+from ._mesh import Mesh
+
+
+@dataclasses.dataclass(frozen=True)
+class SurfacePoint:
+    """The point sum_k barycentric[k] * (corner k of input face `face`) (C++: exactgeo::SurfacePoint)."""
+
+    face: int
+    barycentric: tuple[float, float, float] = (1.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        face = operator.index(self.face)
+        if not 0 <= face < _inputs.INDEX_LIMIT:
+            raise ValueError(f"SurfacePoint: face {face} is not a face index")
+        barycentric = tuple(float(c) for c in np.asarray(self.barycentric, dtype=np.float64).reshape(-1))
+        if len(barycentric) != 3:
+            raise ValueError(f"SurfacePoint: {len(barycentric)} barycentric coordinates, not 3")
+        # Frozen: the normalized values go in the way dataclasses allow.
+        object.__setattr__(self, "face", face)
+        object.__setattr__(self, "barycentric", barycentric)
+
+
+class SurfacePoints:
+    """Many surface points as two arrays: `faces` (n,) and `barycentric` (n, 3), any int and real dtypes.
+
+    Use it instead of a list of SurfacePoint for thousands of sources or targets.
+    """
+
+    __slots__ = ("faces", "barycentric")
+
+    def __init__(self, faces: object, barycentric: object) -> None:
+        self.faces = _inputs.index_array(
+            faces, "SurfacePoints faces", columns=None, element=lambda position: "SurfacePoints: face",
+            out_of_range=" is not a face index",
+        )
+        self.barycentric = _inputs.real_array(barycentric, "barycentric coordinates", columns=3)
+        if len(self.barycentric) != len(self.faces):
+            raise ValueError(
+                f"SurfacePoints: {len(self.faces)} faces but {len(self.barycentric)} rows of barycentric coordinates"
+            )
+
+    @classmethod
+    def of(cls, points: Sequence[SurfacePoint]) -> SurfacePoints:
+        """The same points as one SurfacePoints."""
+        return cls(
+            np.fromiter((p.face for p in points), dtype=np.uint32, count=len(points)),
+            np.array([p.barycentric for p in points], dtype=np.float64).reshape(-1, 3),
+        )
+
+    def __len__(self) -> int:
+        return len(self.faces)
+
+    def __getitem__(self, index: int) -> SurfacePoint:
+        return SurfacePoint(int(self.faces[index]), tuple(self.barycentric[index]))
+
+    def __repr__(self) -> str:
+        return f"exactgeo.SurfacePoints({len(self)} points)"
+
+
+# Vertex indices: one, or a list or array of any integer dtype.
+VertexIndices = Union[int, Sequence[int], np.ndarray]
+# Where a geodesic run starts or what it asks about: vertices, or points anywhere on the surface.
+Sites = Union[VertexIndices, SurfacePoint, Sequence[SurfacePoint], SurfacePoints]
+
+
+def source_sites(sources: object, mesh: Mesh) -> np.ndarray | SurfacePoints:
+    """Vertex indices as a uint32 array, or the points as SurfacePoints.
+
+    Vertices and points do not mix: a vertex that the mesh split into several surface copies (non-manifold)
+    is a source at every copy, a point only on its face.
+    """
+    if isinstance(sources, SurfacePoints):
+        return sources
+    if isinstance(sources, SurfacePoint):
+        return SurfacePoints.of([sources])
+    if isinstance(sources, Sequence) and any(isinstance(s, SurfacePoint) for s in sources):
+        if not all(isinstance(s, SurfacePoint) for s in sources):
+            raise ValueError(
+                "sources mix vertex indices and SurfacePoints: give SurfacePoints only "
+                "(exactgeo.vertex_point turns a vertex into one)"
+            )
+        return SurfacePoints.of(sources)
+    return _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
+
+
+def target_points(targets: object, mesh: Mesh) -> SurfacePoints:
+    """Targets are points: a vertex target is the point at the vertex on the first face that uses it."""
+    if isinstance(targets, SurfacePoints):
+        return targets
+    if isinstance(targets, SurfacePoint):
+        return SurfacePoints.of([targets])
+    if isinstance(targets, Sequence) and any(isinstance(t, SurfacePoint) for t in targets):
+        return SurfacePoints.of([t if isinstance(t, SurfacePoint) else _vertex_target(mesh, i, t) for i, t in enumerate(targets)])
+    vertices = _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
+    return SurfacePoints(*_core.vertex_points(mesh._core, vertices, "target"))
+
+
+def _vertex_target(mesh: Mesh, index: int, vertex: object) -> SurfacePoint:
+    try:
+        return vertex_point(mesh, vertex)
+    except ValueError as error:
+        raise ValueError(f"target {index}: {error}") from None
+
+
+def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
+    """The point at input vertex `vertex`, on the first face that uses it."""
+    vertices = _inputs.vertex_array(vertex, mesh.vertex_count, "vertex", lambda i: "vertex")
+    faces, barycentric = _core.vertex_points(mesh._core, vertices, "")
+    return SurfacePoint(int(faces[0]), tuple(barycentric[0]))
+
+
+def edge_point(mesh: Mesh, from_vertex: int, to_vertex: int, t: float) -> SurfacePoint:
+    """The point (1 - t) * from_vertex + t * to_vertex on their edge, t in [0, 1]."""
+    ends = _inputs.vertex_array(
+        [from_vertex, to_vertex], mesh.vertex_count, "edge", lambda i: f"edge ({from_vertex}, {to_vertex}): vertex"
+    )
+    face, barycentric = _core.edge_point(mesh._core, int(ends[0]), int(ends[1]), float(t))
+    return SurfacePoint(face, barycentric)
+
+
+def point_position(mesh: Mesh, points: SurfacePoint | SurfacePoints) -> np.ndarray:
+    """Where points lie in space: (3,) for one SurfacePoint, (n, 3) for SurfacePoints."""
+    many = points if isinstance(points, SurfacePoints) else SurfacePoints.of([points])
+    positions = _core.point_positions(mesh._core, many.faces, many.barycentric)
+    return positions if isinstance(points, SurfacePoints) else positions[0]

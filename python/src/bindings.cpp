@@ -1,0 +1,428 @@
+// exactgeo._core: the library over numpy arrays. The package around it (python/exactgeo) turns whatever
+// the caller passes (any real dtype, either memory order, lists, single values) into the exact arrays taken
+// here, checking only what that conversion could lose. Every check of the values themselves happens once,
+// in the library, so a bad input gets the same message from Python, C++ and the command line.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/string_view.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <cstdint>
+#include <mutex>
+#include <span>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "exactgeo/exactgeo.hpp"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace {
+
+// Arrays as the package hands them over: exact dtype, C order, in main memory. Arguments of these types are
+// marked noconvert: nanobind's own conversion would wrap negative indices silently.
+using PointArray = nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using TriangleArray = nb::ndarray<const std::uint32_t, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using IndexArray = nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+
+template <class T>
+using NumpyArray = nb::ndarray<nb::numpy, T>;
+
+template <class Array>
+auto span_of(const Array& array) {
+  return std::span(array.data(), array.size());
+}
+
+// Hands a vector's storage to numpy without copying it: the capsule frees the vector with the array.
+template <class T>
+NumpyArray<T> to_numpy(std::vector<T>&& values, std::initializer_list<std::size_t> shape) {
+  auto* owned = new std::vector<T>(std::move(values));
+  nb::capsule owner(owned, [](void* vector) noexcept { delete static_cast<std::vector<T>*>(vector); });
+  return NumpyArray<T>(owned->data(), shape, owner);
+}
+
+// Indices into sources or samples, with -1 where the library says kNoSource (unreachable): numpy code
+// expects signed indices, and -1 is the usual "none".
+std::vector<std::int64_t> signed_indices(std::span<const std::uint32_t> indices) {
+  std::vector<std::int64_t> result(indices.size());
+  for (std::size_t i = 0; i < indices.size(); ++i)
+    result[i] = indices[i] == exactgeo::kNoSource ? -1 : std::int64_t{indices[i]};
+  return result;
+}
+
+// The names Python uses for exactgeo::Algorithm values. A new enum value needs one line here.
+constexpr std::pair<std::string_view, exactgeo::Algorithm> kAlgorithms[] = {
+    {"vtp", exactgeo::Algorithm::vtp},
+};
+
+exactgeo::Algorithm algorithm_named(std::string_view name) {
+  std::string known;
+  for (const auto& [algorithm_name, algorithm] : kAlgorithms) {
+    if (algorithm_name == name) return algorithm;
+    known += (known.empty() ? "" : ", ") + std::string(algorithm_name);
+  }
+  throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                        "unknown algorithm '" + std::string(name) + "' (known: " + known + ")");
+}
+
+std::string_view name_of(exactgeo::Algorithm algorithm) {
+  for (const auto& [name, value] : kAlgorithms)
+    if (value == algorithm) return name;
+  throw exactgeo::Error(exactgeo::ErrorCode::internal, "an Algorithm value has no name in the Python module");
+}
+
+nb::dict stats_dict(const exactgeo::GeodesicStats& stats) {
+  nb::dict dict;
+  dict["window_propagations"] = stats.window_propagations;
+  dict["peak_windows"] = stats.peak_windows;
+  dict["peak_window_bytes"] = stats.peak_window_bytes;
+  dict["vertex_pops"] = stats.vertex_pops;
+  dict["pseudo_source_emissions"] = stats.pseudo_source_emissions;
+  dict["propagation_seconds"] = stats.propagation_seconds;
+  return dict;
+}
+
+nb::dict report_dict(const exactgeo::MeshReport& report) {
+  nb::dict dict;
+  dict["vertices"] = report.vertices;
+  dict["faces"] = report.faces;
+  dict["faces_used"] = report.faces_used;
+  dict["faces_repeating_a_vertex"] = report.faces_repeating_a_vertex;
+  dict["degenerate_faces"] = report.degenerate_faces;
+  dict["zero_length_edges"] = report.zero_length_edges;
+  dict["unreferenced_vertices"] = report.unreferenced_vertices;
+  dict["duplicate_positions"] = report.duplicate_positions;
+  dict["welded_vertices"] = report.welded_vertices;
+  dict["boundary_edges"] = report.boundary_edges;
+  dict["non_manifold_edges"] = report.non_manifold_edges;
+  dict["non_manifold_vertices"] = report.non_manifold_vertices;
+  dict["surface_vertices"] = report.surface_vertices;
+  dict["components"] = report.components;
+  dict["saddle_vertices"] = report.saddle_vertices;
+  return dict;
+}
+
+// Surface points travel as two arrays: faces (n) and barycentric coordinates (n x 3).
+std::vector<exactgeo::SurfacePoint> surface_points(const IndexArray& faces, const PointArray& barycentric) {
+  if (faces.shape(0) != barycentric.shape(0))
+    throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                          std::to_string(faces.shape(0)) + " faces but " + std::to_string(barycentric.shape(0)) +
+                              " rows of barycentric coordinates");
+  std::vector<exactgeo::SurfacePoint> points(faces.shape(0));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = {faces(i), {barycentric(i, 0), barycentric(i, 1), barycentric(i, 2)}};
+  return points;
+}
+
+std::tuple<NumpyArray<std::uint32_t>, NumpyArray<double>> point_arrays(std::span<const exactgeo::SurfacePoint> points) {
+  std::vector<std::uint32_t> faces(points.size());
+  std::vector<double> barycentric(3 * points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    faces[i] = points[i].face;
+    std::copy(points[i].barycentric.begin(), points[i].barycentric.end(), barycentric.begin() + 3 * i);
+  }
+  return {to_numpy(std::move(faces), {points.size()}), to_numpy(std::move(barycentric), {points.size(), 3})};
+}
+
+// A path as flat arrays: every point is a convex combination of up to three input vertices, so the
+// locations are the vertices (n x 3, -1 where unused) and their weights (n x 3), plus the kind of place and,
+// for points inside a triangle, the face (-1 otherwise).
+nb::tuple path_arrays(const exactgeo::GeodesicPath& path, const exactgeo::Mesh& mesh) {
+  using Kind = exactgeo::PathPointLocation::Kind;
+  const std::size_t n = path.points.size();
+  std::vector<double> points(3 * n), weights(3 * n, 0.0);
+  std::vector<std::int64_t> vertices(3 * n, -1), faces(n, -1);
+  std::vector<std::string> kinds(n);
+  const auto triangles = mesh.triangles();
+  for (std::size_t i = 0; i < n; ++i) {
+    std::copy(path.points[i].begin(), path.points[i].end(), points.begin() + 3 * i);
+    const exactgeo::PathPointLocation& location = path.locations[i];
+    switch (location.kind) {
+      case Kind::vertex:
+        kinds[i] = "vertex";
+        vertices[3 * i] = location.vertex;
+        weights[3 * i] = 1;
+        break;
+      case Kind::edge:
+        kinds[i] = "edge";
+        vertices[3 * i] = location.from;
+        vertices[3 * i + 1] = location.to;
+        weights[3 * i] = 1 - location.t;
+        weights[3 * i + 1] = location.t;
+        break;
+      case Kind::face:
+        kinds[i] = "face";
+        faces[i] = location.face_point.face;
+        for (int k = 0; k < 3; ++k) {
+          vertices[3 * i + k] = triangles[3 * location.face_point.face + k];
+          weights[3 * i + k] = location.face_point.barycentric[k];
+        }
+        break;
+    }
+  }
+  const std::int64_t source = path.source == exactgeo::kNoSource ? -1 : std::int64_t{path.source};
+  return nb::make_tuple(to_numpy(std::move(points), {n, 3}), std::move(kinds), to_numpy(std::move(vertices), {n, 3}),
+                        to_numpy(std::move(weights), {n, 3}), to_numpy(std::move(faces), {n}), path.length, source);
+}
+
+// A solver bound to Python. It keeps its own handle on the mesh (a shared pointer inside exactgeo::Mesh), so
+// the Python mesh may be dropped first. The GIL is released while it runs, so two Python threads could call
+// the same solver at once: the mutex makes the second one wait.
+struct Solver {
+  explicit Solver(const exactgeo::Mesh& mesh_) : mesh(mesh_), solver(mesh) {}
+  exactgeo::Mesh mesh;
+  exactgeo::GeodesicSolver solver;
+  std::mutex busy;
+};
+
+// What a run returns to Python: per vertex distance and nearest source, per target the same, statistics.
+nb::tuple solve(Solver& self, const auto& run) {
+  std::vector<double> distances, target_distances;
+  std::vector<std::int64_t> nearest, target_nearest;
+  exactgeo::GeodesicStats stats;
+  {
+    nb::gil_scoped_release release;
+    const std::lock_guard lock(self.busy);
+    const exactgeo::GeodesicResult& result = run(self.solver);
+    // Copies: the solver keeps its result for path queries.
+    distances = result.distances;
+    target_distances = result.target_distances;
+    nearest = signed_indices(result.nearest_source);
+    target_nearest = signed_indices(result.target_nearest_source);
+    stats = result.stats;
+  }
+  const std::size_t vertices = distances.size(), targets = target_distances.size();
+  return nb::make_tuple(to_numpy(std::move(distances), {vertices}), to_numpy(std::move(nearest), {vertices}),
+                        to_numpy(std::move(target_distances), {targets}),
+                        to_numpy(std::move(target_nearest), {targets}), stats_dict(stats));
+}
+
+nb::tuple trace(Solver& self, const auto& query) {
+  exactgeo::GeodesicPath path;
+  {
+    nb::gil_scoped_release release;
+    const std::lock_guard lock(self.busy);
+    path = query(self.solver);
+  }
+  return path_arrays(path, self.mesh);
+}
+
+void translate_error(const std::exception_ptr& error, void*) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const exactgeo::Error& e) {
+    switch (e.code()) {
+      case exactgeo::ErrorCode::invalid_argument:
+      case exactgeo::ErrorCode::invalid_mesh:
+        PyErr_SetString(PyExc_ValueError, e.what());
+        return;
+      case exactgeo::ErrorCode::io_error:
+        PyErr_SetString(PyExc_OSError, e.what());
+        return;
+      case exactgeo::ErrorCode::internal:
+        PyErr_SetString(PyExc_RuntimeError, e.what());
+        return;
+    }
+  }
+}
+
+}  // namespace
+
+NB_MODULE(_core, m) {
+  m.doc() = "exactgeo's compiled core. Use the exactgeo package, which converts and checks the arguments.";
+  m.attr("__version__") = exactgeo::kVersion;
+  nb::register_exception_translator(translate_error);
+
+  m.def("algorithm_names", [] {
+    std::vector<std::string> names;
+    for (const auto& [name, algorithm] : kAlgorithms) names.emplace_back(name);
+    return names;
+  });
+
+  const exactgeo::GeodesicOptions defaults;
+  nb::class_<exactgeo::GeodesicOptions>(m, "GeodesicOptions")
+      .def(
+          "__init__",
+          [](exactgeo::GeodesicOptions* self, std::string_view algorithm, bool rule1, bool rule23,
+             double max_distance) {
+            new (self) exactgeo::GeodesicOptions{.algorithm = algorithm_named(algorithm),
+                                                 .rule1 = rule1,
+                                                 .rule23 = rule23,
+                                                 .max_distance = max_distance};
+          },
+          nb::kw_only(), "algorithm"_a = std::string(name_of(defaults.algorithm)), "rule1"_a = defaults.rule1,
+          "rule23"_a = defaults.rule23, "max_distance"_a = defaults.max_distance)
+      .def_prop_ro("algorithm", [](const exactgeo::GeodesicOptions& o) { return std::string(name_of(o.algorithm)); })
+      .def_ro("rule1", &exactgeo::GeodesicOptions::rule1)
+      .def_ro("rule23", &exactgeo::GeodesicOptions::rule23)
+      .def_ro("max_distance", &exactgeo::GeodesicOptions::max_distance);
+
+  nb::class_<exactgeo::Mesh>(m, "Mesh")
+      .def(
+          "__init__",
+          [](exactgeo::Mesh* self, const PointArray& positions, const TriangleArray& triangles, bool weld) {
+            nb::gil_scoped_release release;
+            new (self) exactgeo::Mesh(span_of(positions), span_of(triangles), {.weld_duplicate_positions = weld});
+          },
+          "positions"_a.noconvert(), "triangles"_a.noconvert(), "weld_duplicate_positions"_a)
+      .def_prop_ro("vertex_count", &exactgeo::Mesh::vertex_count)
+      .def_prop_ro("face_count", &exactgeo::Mesh::face_count)
+      // Views of the mesh's own storage, read-only; each keeps the mesh alive.
+      .def_prop_ro(
+          "positions",
+          [](const exactgeo::Mesh& mesh) {
+            return nb::ndarray<nb::numpy, const double, nb::shape<-1, 3>>(mesh.positions().data(),
+                                                                          {mesh.vertex_count(), 3});
+          },
+          nb::rv_policy::reference_internal)
+      .def_prop_ro(
+          "triangles",
+          [](const exactgeo::Mesh& mesh) {
+            return nb::ndarray<nb::numpy, const std::uint32_t, nb::shape<-1, 3>>(mesh.triangles().data(),
+                                                                                 {mesh.face_count(), 3});
+          },
+          nb::rv_policy::reference_internal)
+      .def_prop_ro("report", [](const exactgeo::Mesh& mesh) { return report_dict(mesh.report()); });
+
+  m.def(
+      "load_mesh",
+      [](const std::string& path, bool weld) {
+        nb::gil_scoped_release release;
+        return exactgeo::load_mesh(path, {.weld_duplicate_positions = weld});
+      },
+      "path"_a, "weld_duplicate_positions"_a);
+
+  // `what` names the points in messages: "target" gives "target 3: vertex 99 is out of range (...)"; empty,
+  // the library's message as it is.
+  m.def(
+      "vertex_points",
+      [](const exactgeo::Mesh& mesh, const IndexArray& vertices, const std::string& what) {
+        std::vector<exactgeo::SurfacePoint> points;
+        points.reserve(vertices.shape(0));
+        for (std::uint32_t v : span_of(vertices)) {
+          try {
+            points.push_back(exactgeo::vertex_point(mesh, v));
+          } catch (const exactgeo::Error& e) {
+            if (what.empty()) throw;
+            throw exactgeo::Error(e.code(), what + " " + std::to_string(points.size()) + ": " + e.what());
+          }
+        }
+        return point_arrays(points);
+      },
+      "mesh"_a, "vertices"_a.noconvert(), "what"_a);
+  m.def(
+      "edge_point",
+      [](const exactgeo::Mesh& mesh, std::uint32_t from, std::uint32_t to, double t) {
+        const exactgeo::SurfacePoint point = exactgeo::edge_point(mesh, from, to, t);
+        return std::make_tuple(point.face, point.barycentric);
+      },
+      "mesh"_a, "from_vertex"_a, "to_vertex"_a, "t"_a);
+  m.def(
+      "point_positions",
+      [](const exactgeo::Mesh& mesh, const IndexArray& faces, const PointArray& barycentric) {
+        const std::vector<exactgeo::SurfacePoint> points = surface_points(faces, barycentric);
+        std::vector<double> positions(3 * points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+          const std::array<double, 3> p = exactgeo::point_position(mesh, points[i]);
+          std::copy(p.begin(), p.end(), positions.begin() + 3 * i);
+        }
+        return to_numpy(std::move(positions), {points.size(), 3});
+      },
+      "mesh"_a, "faces"_a.noconvert(), "barycentric"_a.noconvert());
+
+  nb::class_<Solver>(m, "GeodesicSolver")
+      .def(nb::init<const exactgeo::Mesh&>(), "mesh"_a)
+      .def(
+          "solve_from_vertices",
+          [](Solver& self, const IndexArray& sources, const IndexArray& target_faces,
+             const PointArray& target_barycentric, const exactgeo::GeodesicOptions& options) {
+            const std::vector<exactgeo::SurfacePoint> targets = surface_points(target_faces, target_barycentric);
+            return solve(self, [&](exactgeo::GeodesicSolver& solver) -> const exactgeo::GeodesicResult& {
+              return solver.solve(span_of(sources), targets, options);
+            });
+          },
+          "sources"_a.noconvert(), "target_faces"_a.noconvert(), "target_barycentric"_a.noconvert(), "options"_a)
+      .def(
+          "solve_from_points",
+          [](Solver& self, const IndexArray& source_faces, const PointArray& source_barycentric,
+             const IndexArray& target_faces, const PointArray& target_barycentric,
+             const exactgeo::GeodesicOptions& options) {
+            const std::vector<exactgeo::SurfacePoint> sources = surface_points(source_faces, source_barycentric);
+            const std::vector<exactgeo::SurfacePoint> targets = surface_points(target_faces, target_barycentric);
+            return solve(self, [&](exactgeo::GeodesicSolver& solver) -> const exactgeo::GeodesicResult& {
+              return solver.solve(sources, targets, options);
+            });
+          },
+          "source_faces"_a.noconvert(), "source_barycentric"_a.noconvert(), "target_faces"_a.noconvert(),
+          "target_barycentric"_a.noconvert(), "options"_a)
+      .def(
+          "path_to_vertex",
+          [](Solver& self, std::uint32_t vertex) {
+            return trace(self, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_vertex(vertex); });
+          },
+          "vertex"_a)
+      .def(
+          "path_to_target",
+          [](Solver& self, std::size_t target) {
+            return trace(self, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_target(target); });
+          },
+          "target"_a);
+
+  m.def(
+      "distance_matrix",
+      [](const exactgeo::Mesh& mesh, const IndexArray& sources, const exactgeo::GeodesicOptions& options,
+         unsigned threads) {
+        std::vector<double> matrix;
+        {
+          nb::gil_scoped_release release;
+          matrix = exactgeo::distance_matrix(mesh, span_of(sources), {.geodesic = options, .threads = threads});
+        }
+        return to_numpy(std::move(matrix), {sources.shape(0), mesh.vertex_count()});
+      },
+      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a);
+
+  // The finite entries as compressed sparse rows: values, column indices and row offsets.
+  m.def(
+      "sparse_distance_matrix",
+      [](const exactgeo::Mesh& mesh, const IndexArray& sources, const exactgeo::GeodesicOptions& options,
+         unsigned threads) {
+        exactgeo::SparseDistances sparse;
+        std::vector<std::int64_t> row_offsets(sources.shape(0) + 1, 0);
+        {
+          nb::gil_scoped_release release;
+          sparse = exactgeo::sparse_distance_matrix(mesh, span_of(sources), {.geodesic = options, .threads = threads});
+          for (std::uint32_t row : sparse.row) ++row_offsets[row + 1];
+          for (std::size_t r = 0; r < sources.shape(0); ++r) row_offsets[r + 1] += row_offsets[r];
+        }
+        const std::size_t entries = sparse.distance.size(), rows = sources.shape(0);
+        return std::make_tuple(to_numpy(std::move(sparse.distance), {entries}),
+                               to_numpy(std::move(sparse.column), {entries}),
+                               to_numpy(std::move(row_offsets), {rows + 1}));
+      },
+      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a);
+
+  m.def(
+      "farthest_point_sampling",
+      [](const exactgeo::Mesh& mesh, std::size_t count, std::uint32_t first, const exactgeo::GeodesicOptions& options) {
+        exactgeo::Sampling sampling;
+        std::vector<std::int64_t> samples, nearest;
+        {
+          nb::gil_scoped_release release;
+          sampling = exactgeo::farthest_point_sampling(mesh, count, first, options);
+          samples.assign(sampling.samples.begin(), sampling.samples.end());
+          nearest = signed_indices(sampling.nearest_sample);
+        }
+        const std::size_t taken = samples.size(), vertices = nearest.size();
+        return std::make_tuple(to_numpy(std::move(samples), {taken}), to_numpy(std::move(sampling.radii), {taken}),
+                               to_numpy(std::move(sampling.distances), {vertices}),
+                               to_numpy(std::move(nearest), {vertices}));
+      },
+      "mesh"_a, "count"_a, "first"_a, "options"_a);
+}

@@ -1,0 +1,77 @@
+"""Shared helpers of the Python package's tests. They run against the installed package (pip install .).
+
+Paths can be overridden: EXACTGEO_BUILD_DIR (the CMake build with the command-line tool and the CGAL
+driver, default build/), EXACTGEO_MESH_DIR (the shared meshes, default ../shared/meshes beside the
+repository). Tests needing them skip when they are absent.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPOSITORY = Path(__file__).resolve().parents[2]
+BUILD_DIR = Path(os.environ.get("EXACTGEO_BUILD_DIR", REPOSITORY / "build"))
+CLI = BUILD_DIR / "cli" / "exactgeo"
+MESH_DIR = Path(os.environ.get("EXACTGEO_MESH_DIR", REPOSITORY.parent / "shared" / "meshes"))
+
+
+def grid(nx: int, ny: int, width: float, height: float) -> tuple[np.ndarray, np.ndarray]:
+    """Flat nx-by-ny grid of squares on [0, width] x [0, height] at z = 0, each square cut along alternating
+    diagonals. Vertex (i, j) is number j * (nx + 1) + i."""
+    xs, ys = np.meshgrid(np.linspace(0, width, nx + 1), np.linspace(0, height, ny + 1))
+    vertices = np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)])
+    i, j = (index.ravel() for index in np.meshgrid(np.arange(nx), np.arange(ny)))
+    a = j * (nx + 1) + i
+    b, c = a + 1, a + nx + 1
+    d = c + 1
+    even = ((i + j) % 2 == 0)[:, None]
+    first = np.where(even, np.column_stack([a, b, d]), np.column_stack([a, b, c]))
+    second = np.where(even, np.column_stack([a, d, c]), np.column_stack([b, d, c]))
+    return vertices, np.stack([first, second], axis=1).reshape(-1, 3).astype(np.int32)
+
+
+def bumpy_sheet(n: int, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
+    """A curved open surface: the unit grid lifted by a smooth bump plus seeded noise, so that it has saddle
+    vertices and pseudo-sources, with coordinates that need all 17 digits."""
+    vertices, faces = grid(n, n, 1.0, 1.0)
+    rng = np.random.default_rng(seed)
+    x, y = vertices[:, 0], vertices[:, 1]
+    vertices[:, 2] = 0.3 * np.sin(3 * x) * np.cos(2 * y) + 0.02 * rng.standard_normal(len(vertices))
+    return vertices, faces
+
+
+def write_obj(path: Path, vertices: np.ndarray, faces: np.ndarray) -> Path:
+    """%.17g round-trips every double: the command-line tool reads exactly the arrays Python has."""
+    with open(path, "w") as file:
+        np.savetxt(file, vertices, fmt="v %.17g %.17g %.17g")
+        np.savetxt(file, np.asarray(faces, dtype=np.int64) + 1, fmt="f %d %d %d")
+    return path
+
+
+def run_cli(*arguments: object) -> subprocess.CompletedProcess:
+    return subprocess.run([str(CLI), *map(str, arguments)], capture_output=True, text=True, check=True)
+
+
+def read_json(path: Path) -> dict:
+    with open(path) as file:
+        return json.load(file)
+
+
+@pytest.fixture
+def cli() -> Path:
+    if not CLI.is_file():
+        pytest.skip(f"command-line tool not built at {CLI} (make build)")
+    return CLI
+
+
+def shared_mesh(name: str) -> Path:
+    path = MESH_DIR / f"{name}.obj"
+    if not path.is_file():
+        pytest.skip(f"shared mesh {path} is absent")
+    return path

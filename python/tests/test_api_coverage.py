@@ -1,0 +1,42 @@
+"""The package keeps up with the C++ API: every Algorithm value has a name, every GeodesicOptions field a
+keyword argument, every GeodesicStats field a key in `stats`. Read from the public header in the repository,
+so a field added there and forgotten in python/src/bindings.cpp fails here rather than going missing."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from conftest import REPOSITORY, grid
+
+import exactgeo
+
+HEADER = REPOSITORY / "include" / "exactgeo" / "geodesic.hpp"
+
+
+def declaration_body(kind: str, name: str) -> str:
+    if not HEADER.is_file():
+        pytest.skip(f"{HEADER} is absent")
+    text = re.sub(r"//[^\n]*", "", HEADER.read_text())
+    match = re.search(rf"\b{kind}\s+{name}\s*\{{(.*?)\}};", text, re.S)
+    assert match, f"{kind} {name} not found in {HEADER}"
+    return match.group(1)
+
+
+def field_names(struct: str) -> set[str]:
+    return set(re.findall(r"(\w+)\s*(?:=[^;]*)?;", declaration_body("struct", struct)))
+
+
+def test_every_algorithm_has_a_name():
+    enumerators = set(re.findall(r"\b(\w+)\b", declaration_body("enum class", "Algorithm")))
+    assert enumerators == set(exactgeo.ALGORITHMS)
+
+
+def test_every_option_is_a_keyword_argument():
+    keywords = set(exactgeo.AlgorithmOptions.__annotations__) | {"max_distance"}
+    assert field_names("GeodesicOptions") == keywords
+
+
+def test_every_statistic_is_in_the_stats_dict():
+    stats = exactgeo.GeodesicSolver(exactgeo.Mesh(*grid(2, 2, 1.0, 1.0))).solve(0).stats
+    assert field_names("GeodesicStats") == set(stats)

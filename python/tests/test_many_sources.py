@@ -1,0 +1,86 @@
+"""Distance matrices (dense, sparse with a cut-off, on one or two threads) and farthest-point sampling."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse
+from conftest import bumpy_sheet
+
+import exactgeo
+
+
+@pytest.fixture(scope="module")
+def sheet():
+    return exactgeo.Mesh(*bumpy_sheet(12))
+
+
+SOURCES = [0, 13, 84, 168, 99, 7]
+
+
+def test_dense_rows_are_the_single_source_distances(sheet):
+    matrix = exactgeo.distance_matrix(sheet, SOURCES)
+    assert matrix.shape == (len(SOURCES), sheet.vertex_count) and matrix.dtype == np.float64
+    np.testing.assert_array_equal(matrix, np.array([exactgeo.distance(sheet, s) for s in SOURCES]))
+
+
+def test_rows_are_identical_whatever_the_thread_count(sheet):
+    one = exactgeo.distance_matrix(sheet, SOURCES, threads=1)
+    two = exactgeo.distance_matrix(sheet, SOURCES, threads=2)
+    np.testing.assert_array_equal(one, two)
+    np.testing.assert_array_equal(one, exactgeo.distance_matrix(sheet, np.array(SOURCES, dtype=np.int16)))
+    sparse_one = exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.3, threads=1)
+    sparse_two = exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.3, threads=2)
+    assert (sparse_one != sparse_two).nnz == 0
+
+
+def test_a_cut_off_gives_a_sparse_matrix_of_the_near_entries(sheet):
+    radius = 0.3
+    dense = exactgeo.distance_matrix(sheet, SOURCES)
+    sparse = exactgeo.distance_matrix(sheet, SOURCES, max_distance=radius)
+    assert isinstance(sparse, scipy.sparse.csr_array) and sparse.shape == dense.shape
+    near = dense <= radius
+    assert sparse.nnz == near.sum()
+    rows, columns = sparse.nonzero()  # the 0 at each source is stored but is not "nonzero"
+    assert len(rows) == sparse.nnz - len(SOURCES)
+    filled = np.full(dense.shape, np.inf)
+    coo = sparse.tocoo()
+    filled[coo.row, coo.col] = coo.data
+    np.testing.assert_array_equal(filled[near], dense[near])
+    assert np.isinf(filled[~near]).all()
+    assert filled[np.arange(len(SOURCES)), SOURCES].tolist() == [0.0] * len(SOURCES)
+
+
+def test_bad_matrix_arguments(sheet):
+    with pytest.raises(ValueError, match="threads must be at least 1, not 0"):
+        exactgeo.distance_matrix(sheet, SOURCES, threads=0)
+    with pytest.raises(ValueError, match=r"source vertex 169 is out of range \(mesh has 169 vertices\)"):
+        exactgeo.distance_matrix(sheet, [0, 169])
+    with pytest.raises(ValueError, match="sources must be integer indices, not objects"):
+        exactgeo.distance_matrix(sheet, [exactgeo.SurfacePoint(0)])
+    with pytest.raises(ValueError, match="max_distance must be a non-negative number"):
+        exactgeo.distance_matrix(sheet, SOURCES, max_distance=-0.5)
+
+
+def test_farthest_point_sampling(sheet):
+    sampling = exactgeo.farthest_point_sampling(sheet, 10, first=5)
+    assert sampling.samples.dtype == np.int64 and sampling.samples[0] == 5
+    assert len(set(sampling.samples.tolist())) == 10
+    assert sampling.radii[0] == np.inf and (np.diff(sampling.radii[1:]) <= 0).all()
+    rows = exactgeo.distance_matrix(sheet, sampling.samples)
+    np.testing.assert_allclose(sampling.distances, rows.min(axis=0), rtol=1e-14)
+    np.testing.assert_allclose(rows[sampling.nearest_sample, np.arange(sheet.vertex_count)], sampling.distances, rtol=1e-14)
+    # Each sample was the farthest vertex from the ones before it.
+    for k in range(1, 10):
+        assert rows[:k, sampling.samples[k]].min() == pytest.approx(sampling.radii[k], rel=1e-14)
+        assert rows[:k].min(axis=0).max() == pytest.approx(sampling.radii[k], rel=1e-14)
+
+
+def test_sampling_stops_once_the_reachable_vertices_are_taken():
+    mesh = exactgeo.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]], [[0, 1, 2], [3, 4, 5]])
+    sampling = exactgeo.farthest_point_sampling(mesh, 6)
+    assert sorted(sampling.samples.tolist()) == [0, 1, 2]
+    np.testing.assert_array_equal(sampling.nearest_sample[3:], -1)
+    assert len(exactgeo.farthest_point_sampling(mesh, 0).samples) == 0
+    with pytest.raises(ValueError, match="count must be at least 0, not -1"):
+        exactgeo.farthest_point_sampling(mesh, -1)

@@ -1,0 +1,136 @@
+"""Building meshes: accepted dtypes and layouts, the views, the report, loading files, and rejected input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import REPOSITORY, grid, run_cli, shared_mesh, write_obj
+
+import exactgeo
+
+
+def test_the_tests_use_the_installed_package():
+    package = Path(exactgeo.__file__).resolve()
+    assert REPOSITORY / "python" not in package.parents, f"imported the source tree at {package}, not the installed package"
+
+
+def test_stubs_and_typed_marker_are_installed():
+    package = Path(exactgeo.__file__).parent
+    assert (package / "py.typed").is_file()
+    stub = (package / "_core.pyi").read_text()
+    assert "class GeodesicSolver" in stub and "def distance_matrix" in stub
+
+
+def test_arrays_of_every_dtype_and_order_give_the_same_mesh():
+    vertices, faces = grid(4, 4, 2.0, 1.0)  # coordinates are multiples of 1/4
+    reference = exactgeo.distance(exactgeo.Mesh(vertices, faces), 0)
+    variants = [
+        (vertices.astype(np.float32), faces),
+        (vertices, faces.astype(np.int64)),
+        (vertices, faces.astype(np.uint32)),
+        (vertices, faces.astype(np.uint16)),
+        (vertices, faces.astype(np.float64)),  # whole numbers stored as floats
+        (np.asfortranarray(vertices), np.asfortranarray(faces)),
+        (vertices[:, ::-1][:, ::-1], faces[::1]),  # strided views
+        (vertices.tolist(), faces.tolist()),
+        ((vertices * 4).astype(np.int32), faces),  # integer coordinates: the grid scaled by 4
+    ]
+    for v, f in variants:
+        mesh = exactgeo.Mesh(v, f)
+        expected = reference * 4 if np.asarray(v).dtype.kind == "i" else reference
+        rtol = 1e-6 if np.asarray(v).dtype == np.float32 else 1e-14
+        np.testing.assert_allclose(exactgeo.distance(mesh, 0), expected, rtol=rtol, atol=1e-12)
+
+
+def test_views_are_the_mesh_storage_read_only():
+    vertices, faces = grid(2, 2, 1.0, 1.0)
+    mesh = exactgeo.Mesh(vertices.astype(np.float32), faces.astype(np.int64))
+    assert mesh.vertex_count == 9 and mesh.face_count == 8
+    assert mesh.vertices.dtype == np.float64 and mesh.vertices.shape == (9, 3)
+    assert mesh.faces.dtype == np.uint32 and mesh.faces.shape == (8, 3)
+    np.testing.assert_array_equal(mesh.faces, faces)
+    np.testing.assert_array_equal(mesh.vertices, vertices.astype(np.float32))
+    with pytest.raises(ValueError):
+        mesh.vertices[0, 0] = 5.0
+    view = mesh.faces
+    del mesh
+    assert view.sum() == faces.sum()  # the view keeps the mesh alive
+
+
+def test_report_counts_what_validation_found():
+    # Two triangles sharing an edge, one triangle repeating a vertex (dropped), one vertex used by nothing.
+    vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [5, 5, 5]]
+    faces = [[0, 1, 2], [1, 3, 2], [0, 0, 1]]
+    report = exactgeo.Mesh(vertices, faces).report
+    assert report["faces"] == 3 and report["faces_used"] == 2
+    assert report["faces_repeating_a_vertex"] == 1
+    assert report["unreferenced_vertices"] == 1
+    assert report["boundary_edges"] == 4 and report["components"] == 1
+
+
+def test_report_matches_the_command_line(cli):
+    path = shared_mesh("beetle")  # non-manifold edges, boundaries, several components
+    expected = json.loads(run_cli("info", path, "--json").stdout)
+    report = exactgeo.Mesh.load(path).report
+    assert report == {name: expected[name] for name in report}
+    assert set(report) == set(expected) - {"mesh"}
+
+
+def test_load_reads_files_and_weld_merges_seams(tmp_path):
+    vertices, faces = grid(3, 3, 1.0, 1.0)
+    path = write_obj(tmp_path / "grid.obj", vertices, faces)
+    mesh = exactgeo.Mesh.load(path)
+    np.testing.assert_array_equal(mesh.vertices, vertices)
+    np.testing.assert_array_equal(mesh.faces, faces)
+    assert exactgeo.Mesh.load(str(path)).face_count == len(faces)
+
+    # The same square as two triangles that share no vertex index: a seam.
+    seam = write_obj(tmp_path / "seam.obj", np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]]),
+                     np.array([[0, 1, 2], [3, 4, 5]]))
+    assert np.isinf(exactgeo.distance(exactgeo.Mesh.load(seam), 0)[4])
+    welded = exactgeo.Mesh.load(seam, weld_duplicate_positions=True)
+    assert welded.report["welded_vertices"] == 2
+    assert exactgeo.distance(welded, 0)[4] == pytest.approx(np.sqrt(2))
+
+
+def test_unreadable_files_raise_oserror_and_malformed_ones_valueerror(tmp_path):
+    with pytest.raises(OSError, match="cannot open"):
+        exactgeo.Mesh.load(tmp_path / "missing.obj")
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    with pytest.raises(ValueError, match="bad.obj"):
+        exactgeo.Mesh.load(bad)
+
+
+SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
+
+
+@pytest.mark.parametrize(
+    ("vertices", "faces", "message"),
+    [
+        # Messages written by the library (C++ exactgeo::Error), word for word.
+        ([[0, 0, 0], [1, 0, 0], [0, 1, np.nan]], [[0, 1, 2]], "vertex 2 has a non-finite coordinate"),
+        ([[0, 0, 0], [1, 0, 0], [np.inf, 1, 0]], [[0, 1, 2]], "vertex 2 has a non-finite coordinate"),
+        (SQUARE, [[0, 1, 2], [1, 3, 4]], "face 1 names vertex 4, but the mesh has 4 vertices"),
+        (SQUARE, np.zeros((0, 3), dtype=int), "mesh has no faces"),
+        (SQUARE, [[0, 0, 1]], "mesh has no usable face"),
+        # Values the library cannot receive, in its wording.
+        (SQUARE, [[0, 1, 2], [1, 3, -1]], "face 1 names vertex -1, but the mesh has 4 vertices"),
+        (SQUARE, np.array([[0, 1, 2], [1, 3, 2**40]]), f"face 1 names vertex {2**40}, but the mesh has 4 vertices"),
+        # Conversions that would lose something.
+        (SQUARE, [[0, 1, 2.5]], "faces must be whole numbers: face 0 names vertex 2.5"),
+        (SQUARE, [[0, 1, np.nan]], "faces must be whole numbers: face 0 names vertex nan"),
+        (SQUARE, [[True, False, True]], "faces must be integer indices, not booleans"),
+        (SQUARE, [["0", "1", "2"]], "faces must be integer indices, not dtype <U1"),
+        (SQUARE, [[0, 1, 2, 3]], r"faces must have shape \(n, 3\), not \(1, 4\)"),
+        (SQUARE, [0, 1, 2], r"faces must have shape \(n, 3\), not \(3,\)"),
+        ([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), not \(3, 2\)"),
+        ([[0, 0, 1j], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
+    ],
+)
+def test_bad_meshes_raise_valueerror_naming_the_element(vertices, faces, message):
+    with pytest.raises(ValueError, match=message):
+        exactgeo.Mesh(vertices, faces)
