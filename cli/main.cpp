@@ -506,6 +506,10 @@ struct DistanceArguments {
   std::string out;
   std::string target_out;
   std::string stats;
+  std::string algorithm = "vtp";
+  bool no_rule1 = false;
+  bool no_rule23 = false;
+  bool timers = false;
   bool quiet = false;
   bool weld = false;
 };
@@ -602,8 +606,12 @@ int run_distance(const DistanceArguments& arguments) {
   solver.set_progress([&](double fraction) {
     progress.update(static_cast<std::size_t>(fraction * static_cast<double>(mesh.vertex_count())));
   });
-  const exactgeo::GeodesicResult& result =
-      solve(solver, sources, targets, exactgeo::GeodesicOptions{.max_distance = arguments.max_distance});
+  const exactgeo::GeodesicOptions options{.algorithm = exactgeo::parse_algorithm(arguments.algorithm),
+                                          .rule1 = !arguments.no_rule1,
+                                          .rule23 = !arguments.no_rule23,
+                                          .max_distance = arguments.max_distance,
+                                          .collect_timings = arguments.timers};
+  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, options);
   progress.finish();
   const exactgeo::GeodesicStats& stats = result.stats;
 
@@ -636,14 +644,25 @@ int run_distance(const DistanceArguments& arguments) {
     json["targets"] = targets.size();
     json["max_distance_cutoff"] =
         std::isinf(arguments.max_distance) ? nlohmann::ordered_json() : nlohmann::ordered_json(arguments.max_distance);
-    json["algorithm"] = "vtp";
+    json["algorithm"] = exactgeo::algorithm_name(options.algorithm);
+    json["rule1"] = options.rule1;
+    json["rule23"] = options.rule23;
     json["read_seconds"] = loaded.read_seconds;
     json["build_seconds"] = loaded.build_seconds;
     json["propagation_seconds"] = stats.propagation_seconds;
+    const auto timer = [&](double seconds) { return arguments.timers ? nlohmann::ordered_json(seconds) : nlohmann::ordered_json(); };
+    json["window_propagation_seconds"] = timer(stats.window_propagation_seconds);
+    json["pruning_seconds"] = timer(stats.pruning_seconds);
+    json["queue_seconds"] = timer(stats.queue_seconds);
     json["window_propagations"] = stats.window_propagations;
+    json["prime_propagations"] = stats.prime_propagations;
+    json["secondary_propagations"] = stats.secondary_propagations;
+    json["prime_merges"] = stats.prime_merges;
+    json["secondary_merges"] = stats.secondary_merges;
     json["peak_windows"] = stats.peak_windows;
     json["peak_window_bytes"] = stats.peak_window_bytes;
     json["vertex_pops"] = stats.vertex_pops;
+    json["face_pops"] = stats.face_pops;
     json["pseudo_source_emissions"] = stats.pseudo_source_emissions;
     json["max_distance"] = max_distance;
     json["unreachable"] = unreachable;
@@ -668,6 +687,17 @@ int run_distance(const DistanceArguments& arguments) {
         {"propagation", format_number("%.4f s", stats.propagation_seconds)},
     };
     if (!std::isinf(arguments.max_distance)) rows.insert(rows.begin() + 4, {"cut-off", format_number("%.12g", arguments.max_distance)});
+    if (options.algorithm != exactgeo::Algorithm::vtp || !options.rule1 || !options.rule23) {
+      std::string variant(exactgeo::algorithm_name(options.algorithm));
+      if (!options.rule1) variant += ", Rule 1 off";
+      if (!options.rule23) variant += ", Rules 2 and 3 off";
+      rows.insert(rows.begin() + 4, {"algorithm", variant});
+    }
+    if (arguments.timers) {
+      rows.push_back({"  window propagation", format_number("%.4f s", stats.window_propagation_seconds)});
+      rows.push_back({"  pruning", format_number("%.4f s", stats.pruning_seconds)});
+      rows.push_back({"  queue", format_number("%.4f s", stats.queue_seconds)});
+    }
     if (arguments.target_out.empty())
       for (std::size_t t = 0; t < targets.size(); ++t) {
         std::string value = std::isinf(result.target_distances[t]) ? "inf" : format_number("%.17g", result.target_distances[t]);
@@ -938,6 +968,21 @@ int main(int argc, char** argv) {
       ->check(kOutputArgument)
       ->type_name("FILE.{txt,csv,npy}");
   distance_command->add_option("--stats", distance.stats, "Write statistics as JSON")->type_name("FILE.json");
+  std::vector<std::string> algorithm_names;
+  for (const auto& [value, name] : exactgeo::kAlgorithmNames) algorithm_names.emplace_back(name);
+  distance_command
+      ->add_option("--algorithm", distance.algorithm,
+                   "Variant (paper Section 5): vtp (default), opvtp (order-preserving merges), ftp (face-sorted "
+                   "wavefront), opftp. All give the same distances")
+      ->check(CLI::IsMember(algorithm_names))
+      ->type_name("NAME");
+  distance_command->add_flag("--no-rule1", distance.no_rule1,
+                             "Ablation: split every window at the opposite vertex instead of pruning with Rule 1");
+  distance_command->add_flag("--no-rule23", distance.no_rule23,
+                             "Ablation: no pairwise pruning of neighbouring windows (Rules 2 and 3)");
+  distance_command->add_flag("--timers", distance.timers,
+                             "Split the propagation time into window propagation, pruning and queue (in --stats; "
+                             "the clock reads cost a few percent)");
   distance_command->add_flag("--quiet", distance.quiet, "No progress line on stderr");
   distance_command->add_flag("--weld", distance.weld, "Merge vertices with identical positions");
   distance_command->footer(kExitCodesHelp);

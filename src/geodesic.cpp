@@ -13,6 +13,7 @@ namespace exactgeo {
 namespace {
 
 void check_options(const GeodesicOptions& options) {
+  algorithm_name(options.algorithm);  // throws for a value outside the enum
   if (!(options.max_distance >= 0))
     throw Error(ErrorCode::invalid_argument,
                 "max_distance must be a non-negative number, not " + std::to_string(options.max_distance));
@@ -28,6 +29,22 @@ std::vector<detail::LocatedPoint> locate_all(const detail::SurfaceMesh& surface,
 }
 
 }  // namespace
+
+std::string_view algorithm_name(Algorithm algorithm) {
+  for (const auto& [value, name] : kAlgorithmNames)
+    if (value == algorithm) return name;
+  throw Error(ErrorCode::invalid_argument,
+              "unknown algorithm value " + std::to_string(static_cast<int>(algorithm)));
+}
+
+Algorithm parse_algorithm(std::string_view name) {
+  std::string known;
+  for (const auto& [value, known_name] : kAlgorithmNames) {
+    if (known_name == name) return value;
+    known += (known.empty() ? "" : ", ") + std::string(known_name);
+  }
+  throw Error(ErrorCode::invalid_argument, "unknown algorithm '" + std::string(name) + "' (known: " + known + ")");
+}
 
 GeodesicSolver::GeodesicSolver(const Mesh& mesh)
     : mesh_(&mesh), engine_(std::make_unique<detail::VtpEngine>(mesh.surface())) {}

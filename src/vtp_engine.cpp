@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -75,6 +76,23 @@ class ShadowCone {
 
 double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
 
+// Adds the time until it goes out of scope to `bucket`, if timing is on; costs one branch otherwise.
+class PhaseTimer {
+ public:
+  PhaseTimer(bool on, double& bucket) : bucket_(on ? &bucket : nullptr) {
+    if (bucket_) start_ = std::chrono::steady_clock::now();
+  }
+  ~PhaseTimer() {
+    if (bucket_) *bucket_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  double* bucket_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 // Vertex pops between two progress reports.
 constexpr std::uint64_t kProgressInterval = 4096;
 
@@ -102,6 +120,8 @@ ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Arrival& 
 void VtpEngine::run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
                     const GeodesicOptions& options) {
   options_ = options;
+  face_sorted_ = options.algorithm == Algorithm::ftp || options.algorithm == Algorithm::opftp;
+  order_preserving_ = options.algorithm == Algorithm::opvtp || options.algorithm == Algorithm::opftp;
   tolerances_ = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale};
   stats_ = {};
   cutoff_ = options.max_distance;
@@ -116,7 +136,12 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   face_visited_at_.assign(mesh_.face_count(), kNone);
   scheduled_.assign(mesh_.halfedges.size(), 0);
   lists_.reset(mesh_.halfedges.size());
-  queue_.reset(n);
+  vertex_queue_.reset(face_sorted_ ? 0 : n);
+  face_queue_.reset(face_sorted_ ? mesh_.face_count() : 0);
+  faces_to_join_.clear();
+  if (face_sorted_)
+    for (std::uint32_t v = 0; v < n; ++v)
+      faces_to_join_.push_back(mesh_.vertex_corner_offsets[v + 1] - mesh_.vertex_corner_offsets[v]);
   pending_.clear();
   emit_queue_.clear();
   iteration_ = 0;
@@ -131,9 +156,29 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
       relax(v, 0.0, Arrival{v});
     }
   }
-  while (!queue_.empty()) {
+  if (face_sorted_)
+    run_face_sorted();
+  else
+    run_vertex_sorted();
+  // Paths through a corner are only final now that every vertex distance is.
+  for (std::uint32_t f = 0; f + 1 < face_target_offsets_.size(); ++f)
+    if (face_target_offsets_[f] != face_target_offsets_[f + 1]) evaluate_targets_from_corners(f);
+  targets_changed_ = true;
+  update_cutoff();
+  stats_.window_propagations = stats_.prime_propagations + stats_.secondary_propagations;
+  stats_.peak_windows = lists_.peak_live();
+  stats_.peak_window_bytes = lists_.arena_bytes();
+}
+
+// Vertex-sorted (VTP, OPVTP): each iteration pops the nearest wavefront vertex and adds all its faces.
+void VtpEngine::run_vertex_sorted() {
+  while (!vertex_queue_.empty()) {
     update_cutoff();
-    const std::uint32_t v = queue_.pop();
+    std::uint32_t v;
+    {
+      const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+      v = vertex_queue_.pop();
+    }
     state_[v] = VertexState::inside;
     ++iteration_;
     ++stats_.vertex_pops;
@@ -142,20 +187,76 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
     if (bends_paths(v)) emit(v);
     for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
       const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
-      if (face_visited_at_[f] != kNone) continue;
-      face_visited_at_[f] = iteration_;
-      for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-        if (!lists_.empty(h)) schedule(h);
+      if (face_visited_at_[f] == kNone) enter_face(f);
     }
     drain();
   }
-  // Paths through a corner are only final now that every vertex distance is.
-  for (std::uint32_t f = 0; f + 1 < face_target_offsets_.size(); ++f)
-    if (face_target_offsets_[f] != face_target_offsets_[f + 1]) evaluate_targets_from_corners(f);
-  targets_changed_ = true;
-  update_cutoff();
-  stats_.peak_windows = lists_.peak_live();
-  stats_.peak_window_bytes = lists_.arena_bytes();
+}
+
+// Face-sorted (FTP, OPFTP): each iteration pops one triangle of the wavefront. Its priority (paper Section
+// 5.1) is the shortest distance to its far corner through the lists waiting on its edges. A triangle that
+// borders the traversed area with no window on the shared edge (behind a saddle, say, whose windows only
+// its own emission brings) is queued at the larger distance of that edge's ends, so that it joins once the
+// wavefront has passed it; otherwise the saddle would never be enclosed.
+void VtpEngine::run_face_sorted() {
+  // Sources at vertices start with their whole one-ring inside (paper Section 5.1, Initialization).
+  for (const SourceSite& site : sources_) {
+    const std::uint32_t v = site.point.vertex;
+    if (v == kNone) {
+      // A source in a face or on an edge: the faces it lies in.
+      join_face(site.point.face);
+      if (site.point.edge != kNone && mesh_.twin[site.point.edge] != kNone) join_face(face_of(mesh_.twin[site.point.edge]));
+      continue;
+    }
+    for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i)
+      join_face(face_of(mesh_.vertex_corners[i]));
+  }
+  while (!face_queue_.empty()) {
+    update_cutoff();
+    std::uint32_t f;
+    {
+      const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+      f = face_queue_.pop();
+    }
+    if (face_visited_at_[f] != kNone) continue;  // joined with a source's one-ring while queued
+    ++stats_.face_pops;
+    if (progress_ && stats_.face_pops % kProgressInterval == 0)
+      progress_(static_cast<double>(stats_.face_pops) / mesh_.face_count());
+    join_face(f);
+  }
+}
+
+// Adds f to the traversed area in the current iteration: the lists waiting on its edges will cross it.
+void VtpEngine::enter_face(std::uint32_t f) {
+  face_visited_at_[f] = iteration_;
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+    if (!lists_.empty(h)) schedule(h);
+}
+
+// Face-sorted: f joins the traversed area as one iteration. Then each corner whose faces have all joined is
+// enclosed: a pseudo-source among them emits (paper Section 5.2, Saddle Vertices, first scenario), with the
+// distance that crossing f may just have lowered. Neighbours across edges that carried no window are queued.
+void VtpEngine::join_face(std::uint32_t f) {
+  if (face_visited_at_[f] != kNone) return;
+  ++iteration_;
+  enter_face(f);
+  drain();
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+    const std::uint32_t v = mesh_.tail(h);
+    if (--faces_to_join_[v] != 0) continue;
+    state_[v] = VertexState::inside;
+    if (bends_paths(v) && distance_[v] < HUGE_VAL) {
+      emit(v);
+      drain();
+    }
+  }
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+    const std::uint32_t g = mesh_.twin[h];
+    if (g == kNone || face_visited_at_[face_of(g)] != kNone || face_queue_.contains(face_of(g))) continue;
+    const double key = std::max(distance_[mesh_.tail(h)], distance_[mesh_.head(h)]);
+    const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+    face_queue_.push_or_decrease(face_of(g), key);
+  }
 }
 
 // A source inside a face or on an edge: straight rays reach the face's corners and cross its edges, so it
@@ -200,6 +301,12 @@ void VtpEngine::start_point_source(std::uint32_t site) {
   }
 }
 
+// The queue push, out of line (and timed when asked): relax runs for every list crossing and stays small.
+void VtpEngine::push_vertex(std::uint32_t v, double d) {
+  const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+  vertex_queue_.push_or_decrease(v, d);
+}
+
 // A path of length d reaches v, arriving as `arrival` says.
 void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
   if (!(d < distance_[v])) return;
@@ -208,7 +315,7 @@ void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
   arrival_[v] = arrival;
   if (state_[v] != VertexState::inside) {
     state_[v] = VertexState::queued;
-    queue_.push_or_decrease(v, d);
+    if (!face_sorted_) push_vertex(v, d);
   } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
     // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
     emit_scheduled_[v] = 1;
@@ -236,8 +343,24 @@ void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
     lists_.append(g, {&w, 1});
     schedule(g);
   } else {
+    if (face_sorted_) queue_face(g, {&w, 1});
     lists_.prepend(g, {&w, 1});
   }
+}
+
+FaceFrame VtpEngine::face_frame(std::uint32_t h) const {
+  const HalfedgeGeometry& g = mesh_.halfedges[h];
+  return {g.length, g.apex_x, g.apex_y, mesh_.halfedges[prev_halfedge(h)].length,
+          mesh_.halfedges[next_halfedge(h)].length};
+}
+
+// Face-sorted: windows arriving on g, an edge of a triangle outside the traversed area, may bring its
+// priority (the distance to the corner opposite g) forward.
+void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
+  if (arriving.empty()) return;
+  const double key = reach_apex(arriving, face_frame(g), key_splits_).distance;
+  const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+  face_queue_.push_or_decrease(face_of(g), key);
 }
 
 // Paper Section 5.2, "Saddle Vertices": a pseudo-source sends windows across the edges opposite to it in
@@ -287,21 +410,27 @@ void VtpEngine::cross(std::uint32_t h) {
   // Read in place: nothing below changes the lists until this one is cleared.
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
-  const HalfedgeGeometry& g = mesh_.halfedges[h];
-  const FaceFrame frame{g.length, g.apex_x, g.apex_y, mesh_.halfedges[prev_halfedge(h)].length,
-                        mesh_.halfedges[next_halfedge(h)].length};
+  const FaceFrame frame = face_frame(h);
   const std::uint32_t a = mesh_.tail(h), b = mesh_.head(h), c = mesh_.apex(h);
-  const ApexReach reach = reach_apex(incoming, frame, splits_);
+  const bool prime = face_visited_at_[face_of(h)] == iteration_;
+  ApexReach reach;
+  {
+    const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
+    reach = reach_apex(incoming, frame, splits_);
+  }
   const Window& best = incoming[reach.window];
   relax(c, reach.distance, Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py});
   if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
 
   to_ac_.clear();
   to_bc_.clear();
-  stats_.window_propagations += cross_face(incoming, splits_, frame, reach, options_.rule1,
-                                           {distance_[a], distance_[b], distance_[c]}, tolerances_, to_ac_, to_bc_);
+  {
+    const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
+    (prime ? stats_.prime_propagations : stats_.secondary_propagations) +=
+        cross_face(incoming, splits_, frame, reach, options_.rule1, {distance_[a], distance_[b], distance_[c]},
+                   tolerances_, to_ac_, to_bc_);
+  }
   lists_.clear(h);
-  const bool prime = face_visited_at_[face_of(h)] == iteration_;
   deliver(prev_halfedge(h), to_ac_, a, prime);
   deliver(next_halfedge(h), to_bc_, b, prime);
 }
@@ -321,24 +450,42 @@ void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::u
                   windows.end());
 
   const bool inside = face_visited_at_[face_of(g)] != kNone;
+  if (!inside) {
+    if (face_sorted_) queue_face(g, windows);
+    if (!lists_.empty(g)) ++(prime ? stats_.prime_merges : stats_.secondary_merges);
+  }
   if (!inside && prime && options_.rule23) {
     // Rule 3: PrimeMerge on a new wavefront edge. The Rule 2 walk over the crossed windows continues from
     // the list already there, so it prunes them among themselves and across the junction in one pass.
     const std::span<Window> list = lists_.extend(g, windows.size());
     const std::size_t old_size = list.size() - windows.size();
     std::copy(windows.begin(), windows.end(), list.begin() + static_cast<std::ptrdiff_t>(old_size));
+    const PhaseTimer timer(options_.collect_timings, stats_.pruning_seconds);
     lists_.shrink_to(g, prune_neighbours(list, old_size, tolerances_));
     return;
   }
-  if (options_.rule23) windows.resize(prune_neighbours(windows, 0, tolerances_));  // Rule 2
+  if (options_.rule23) {  // Rule 2
+    const PhaseTimer timer(options_.collect_timings, stats_.pruning_seconds);
+    windows.resize(prune_neighbours(windows, 0, tolerances_));
+  }
   if (inside) {  // inside the traversed area: keep moving
     lists_.append(g, windows);
     schedule(g);
-  } else if (!reversed) {  // order-free SecondMerge: windows from the side of g's tail go first
-    lists_.prepend(g, windows);
   } else {
-    lists_.append(g, windows);
+    merge_into_wavefront(g, windows, reversed);
   }
+}
+
+// SecondMerge (paper Section 5.1) of windows arriving at wavefront edge g from inside the traversed area.
+// Order-free: windows that came from the side of g's tail go first, the others last; both keep their own
+// order. Order-preserving: each is inserted where its start belongs, found by binary search.
+void VtpEngine::merge_into_wavefront(std::uint32_t g, std::span<const Window> windows, bool reversed) {
+  if (order_preserving_)
+    lists_.insert_ordered(g, windows);
+  else if (!reversed)
+    lists_.prepend(g, windows);
+  else
+    lists_.append(g, windows);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -3,6 +3,11 @@
 // those lists reach inside the traversed area, until every list is pruned, has died on the boundary or
 // waits on an edge of the wavefront.
 //
+// The paper's other variants share everything but the wavefront order and the secondary merge (Section
+// 5.1): the face-sorted ones (FTP, OPFTP) keep a priority queue of triangles instead, adding one per
+// iteration, and the order-preserving ones (OPVTP, OPFTP) insert windows arriving at an older wavefront edge
+// in order of their start instead of prepending or appending them as a block.
+//
 // Generalisations over the paper, each costing nothing when unused: sources at points inside faces and on
 // edges, a distance cut-off (windows that cannot reach below it are dropped), target points whose distances
 // are evaluated as window lists cross their faces (the cut-off then shrinks to the farthest target), and
@@ -20,7 +25,7 @@
 #include "propagation.hpp"
 #include "surface_mesh.hpp"
 #include "surface_point.hpp"
-#include "vertex_queue.hpp"
+#include "wavefront_queue.hpp"
 #include "windows.hpp"
 
 namespace exactgeo::detail {
@@ -69,8 +74,16 @@ class VtpEngine {
  private:
   enum class VertexState : std::uint8_t { unseen, queued, inside };
 
+  void run_vertex_sorted();
+  void run_face_sorted();
+  void enter_face(std::uint32_t f);
+  void join_face(std::uint32_t f);
   void start_point_source(std::uint32_t site);
   void relax(std::uint32_t v, double d, const Arrival& arrival);
+  void push_vertex(std::uint32_t v, double d);
+  FaceFrame face_frame(std::uint32_t h) const;
+  void queue_face(std::uint32_t g, std::span<const Window> arriving);
+  void merge_into_wavefront(std::uint32_t g, std::span<const Window> windows, bool reversed);
   void schedule(std::uint32_t h);
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
   void emit(std::uint32_t v);
@@ -100,12 +113,15 @@ class VtpEngine {
   std::vector<VertexState> state_;
   std::vector<std::uint8_t> scheduled_, emit_scheduled_;
   std::uint32_t iteration_ = 0;
+  bool face_sorted_ = false, order_preserving_ = false;
   WindowLists lists_;
-  VertexQueue queue_;
+  WavefrontQueue vertex_queue_;                // vertex-sorted variants
+  WavefrontQueue face_queue_;                  // face-sorted variants
+  std::vector<std::uint32_t> faces_to_join_;   // face-sorted: per surface vertex, its faces not yet joined
   std::deque<std::uint32_t> pending_;
   std::vector<std::uint32_t> emit_queue_;
   std::vector<Window> to_ac_, to_bc_;
-  std::vector<double> splits_;
+  std::vector<double> splits_, key_splits_;
 
   // Targets: points inside faces or on edges are listed per face; points at vertices read the vertex.
   std::vector<LocatedPoint> targets_;

@@ -60,6 +60,20 @@ class WindowLists {
     grow_live(list, windows.size());
   }
 
+  // Inserts each window after the last one of h's list that starts no later, found by binary search: an
+  // ordered list stays ordered by start.
+  void insert_ordered(std::uint32_t h, std::span<const Window> windows) {
+    const std::size_t old_size = lists_[h].size;
+    const std::span<Window> list = extend(h, windows.size());
+    auto end = list.begin() + static_cast<std::ptrdiff_t>(old_size);
+    for (const Window& w : windows) {
+      const auto at = std::upper_bound(list.begin(), end, w.b0, [](double b0, const Window& x) { return b0 < x.b0; });
+      std::move_backward(at, end, end + 1);
+      *at = w;
+      ++end;
+    }
+  }
+
   // Grows h's list by `added` windows at its end (left for the caller to fill) and returns the whole list,
   // for work in place; shrink_to gives back what that work removed.
   std::span<Window> extend(std::uint32_t h, std::size_t added) {

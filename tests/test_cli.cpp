@@ -252,6 +252,38 @@ TEST_F(Cli, StatsJsonHasRequiredKeys) {
   EXPECT_EQ(stats["mesh_report"]["boundary_edges"], 0);
 }
 
+TEST_F(Cli, AlgorithmVariantsAndAblationsGiveTheSameDistancesAndSayWhatRan) {
+  ASSERT_EQ(run("distance @torus --source 3 --out " + arg("default.txt")).exit_code, 0);
+  const std::vector<double> expected = parse_txt(path("default.txt"));
+  const RunResult result = run("distance @torus --source 3 --algorithm opftp --no-rule1 --no-rule23 --timers --stats " +
+                               arg("s.json") + " --out " + arg("d.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::vector<double> distances = parse_txt(path("d.txt"));
+  ASSERT_EQ(distances.size(), expected.size());
+  for (std::size_t v = 0; v < distances.size(); ++v) EXPECT_NEAR(distances[v], expected[v], 1e-12) << v;
+
+  const nlohmann::json stats = nlohmann::json::parse(read_file(path("s.json")));
+  EXPECT_EQ(stats["algorithm"], "opftp");
+  EXPECT_EQ(stats["rule1"], false);
+  EXPECT_EQ(stats["rule23"], false);
+  EXPECT_EQ(stats["window_propagations"].get<std::uint64_t>(),
+            stats["prime_propagations"].get<std::uint64_t>() + stats["secondary_propagations"].get<std::uint64_t>());
+  EXPECT_GT(stats["face_pops"].get<std::uint64_t>(), 0u);
+  EXPECT_EQ(stats["vertex_pops"].get<std::uint64_t>(), 0u);
+  for (const char* key : {"window_propagation_seconds", "queue_seconds"}) EXPECT_GT(stats[key].get<double>(), 0.0) << key;
+  EXPECT_EQ(stats["pruning_seconds"].get<double>(), 0.0);  // Rules 2 and 3 are off
+
+  // Without --timers the split is null, not a misleading zero; the summary names a non-default variant.
+  const RunResult summary = run("distance @torus --source 3 --algorithm ftp --stats " + arg("t.json"));
+  ASSERT_EQ(summary.exit_code, 0) << summary.err;
+  EXPECT_NE(summary.out.find("ftp"), std::string::npos) << summary.out;
+  EXPECT_TRUE(nlohmann::json::parse(read_file(path("t.json")))["pruning_seconds"].is_null());
+}
+
+TEST_F(Cli, UnknownAlgorithmIsAUsageError) {
+  expect_error(run("distance @torus --source 0 --algorithm mmp"), 1, "mmp");
+}
+
 // Two triangles that share an edge only through duplicated positions, plus a vertex used by no face.
 constexpr const char* kSeamObj =
     "v 0 0 0\nv 1 0 0\nv 0 1 0\n"

@@ -1,6 +1,7 @@
 // Metamorphic check: 1-to-4 midpoint subdivision leaves the surface unchanged, so the distances at the
-// original vertices must not change (<= 1e-10 * the largest distance), for every rule combination. The new
-// midpoint vertices are flat (angle sum 2*pi up to rounding) and must not be taken for saddles.
+// original vertices must not change (<= 1e-10 * the largest distance), for every variant and rule
+// combination. The new midpoint vertices are flat (angle sum 2*pi up to rounding) and must not be taken for
+// saddles.
 #include <gtest/gtest.h>
 
 #include <span>
@@ -18,12 +19,12 @@ void expect_subdivision_invariant(const exactgeo::MeshSoup& soup, std::uint32_t 
   const exactgeo::Mesh fine(exactgeo::subdivide_midpoint(soup));
   EXPECT_EQ(fine.report().saddle_vertices, coarse.report().saddle_vertices)
       << label << ": midpoint vertices classified as saddles";
-  for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllRuleCombinations) {
+  for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllVariants) {
     const auto before = exactgeo::geodesic_distance(coarse, source, options);
     const auto after = exactgeo::geodesic_distance(fine, source, options);
     const std::span<const double> original_vertices(after.distances.data(), coarse.vertex_count());
     EXPECT_TRUE(exactgeo_test::distances_match(original_vertices, before.distances, kRelativeTolerance))
-        << label << " rule1=" << options.rule1 << " rule23=" << options.rule23;
+        << label << " " << exactgeo_test::variant_label(options);
   }
 }
 

@@ -1,7 +1,7 @@
 // Exactness against an independent oracle: CGAL's Surface_mesh_shortest_path on every shared mesh, from
-// vertex 0, a boundary vertex where there is one and a seeded random vertex, for every combination of the
-// paper's rules. Required: max |ours - CGAL| <= 1e-10 * the largest finite distance, and the same set of
-// unreachable vertices.
+// vertex 0, a boundary vertex where there is one and a seeded random vertex, for every variant of the paper
+// with every combination of its rules. Required: max |ours - CGAL| <= 1e-10 * the largest finite distance,
+// and the same set of unreachable vertices.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,7 +22,7 @@ constexpr double kRelativeTolerance = 1e-10;
 
 class OracleTest : public testing::TestWithParam<std::string> {};
 
-TEST_P(OracleTest, MatchesCgalFromSeveralSourcesWithEveryRuleCombination) {
+TEST_P(OracleTest, MatchesCgalFromSeveralSourcesWithEveryVariant) {
   const auto soup = exactgeo_test::load_shared_mesh(GetParam() + ".obj");
   if (!soup) GTEST_SKIP() << exactgeo_test::kNoSharedMeshesMessage;
   const exactgeo::Mesh mesh(*soup);
@@ -35,12 +35,12 @@ TEST_P(OracleTest, MatchesCgalFromSeveralSourcesWithEveryRuleCombination) {
     const std::uint32_t source_list[] = {source};
     const auto oracle = exactgeo_oracle::cgal_geodesic_distances(soup->positions, soup->triangles, source_list);
     ASSERT_TRUE(oracle.loaded_as_manifold) << GetParam() << ": CGAL could not load the mesh";
-    for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllRuleCombinations) {
+    for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllVariants) {
       const auto result = exactgeo::geodesic_distance(mesh, source, options);
       double error = 0;
       EXPECT_TRUE(exactgeo_test::distances_match(result.distances, oracle.distances, kRelativeTolerance, &error))
-          << GetParam() << " source " << source << " rule1=" << options.rule1 << " rule23=" << options.rule23;
-      if (options.rule1 && options.rule23)
+          << GetParam() << " source " << source << " " << exactgeo_test::variant_label(options);
+      if (exactgeo_test::is_default_variant(options))
         std::printf("[ oracle   ] %-18s source %6u  max rel error %.2e  ours %.3fs (%llu propagations)  CGAL %.3fs\n",
                     GetParam().c_str(), source, error, result.stats.propagation_seconds,
                     static_cast<unsigned long long>(result.stats.window_propagations),
@@ -142,9 +142,8 @@ TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
                                                                as_oracle_points(sources), as_oracle_points(targets));
   ASSERT_TRUE(oracle.loaded_as_manifold) << GetParam() << ": CGAL could not load the mesh";
   exactgeo::GeodesicSolver solver(mesh);
-  for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllRuleCombinations) {
-    const std::string where = GetParam() + " rule1=" + std::to_string(options.rule1) +
-                              " rule23=" + std::to_string(options.rule23);
+  for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllVariants) {
+    const std::string where = GetParam() + " " + exactgeo_test::variant_label(options);
     double vertex_error = 0, target_error = 0;
     EXPECT_TRUE(exactgeo_test::distances_match(solver.solve(sources, {}, options).distances, oracle.distances,
                                                kRelativeTolerance, &vertex_error))
@@ -153,7 +152,7 @@ TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
     EXPECT_TRUE(exactgeo_test::distances_match(with_targets.target_distances, oracle.target_distances,
                                                kRelativeTolerance, &target_error))
         << where;
-    if (options.rule1 && options.rule23)
+    if (exactgeo_test::is_default_variant(options))
       std::printf("[ oracle   ] %-18s point sources: max rel error %.2e at vertices, %.2e at targets\n",
                   GetParam().c_str(), vertex_error, target_error);
   }
@@ -172,13 +171,13 @@ TEST_P(OraclePointTest, EdgeSourcesMatchCgalOnTheSplitMesh) {
                                                                  std::span(&middle, 1));
     ASSERT_TRUE(oracle.loaded_as_manifold) << GetParam();
     const std::vector<double> expected(oracle.distances.begin(), oracle.distances.end() - 1);
-    for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllRuleCombinations) {
+    for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllVariants) {
       double error = 0;
       EXPECT_TRUE(exactgeo_test::distances_match(
           exactgeo::geodesic_distance(mesh, std::span(&source, 1), options).distances, expected, kRelativeTolerance,
           &error))
-          << GetParam() << " rule1=" << options.rule1 << " rule23=" << options.rule23;
-      if (options.rule1 && options.rule23 && trial == 0)
+          << GetParam() << " " << exactgeo_test::variant_label(options);
+      if (exactgeo_test::is_default_variant(options) && trial == 0)
         std::printf("[ oracle   ] %-18s edge source: max rel error %.2e\n", GetParam().c_str(), error);
     }
   }
@@ -205,7 +204,7 @@ TEST_P(OraclePointTest, EdgeTargetsMatchCgalOnTheSplitMesh) {
     ASSERT_TRUE(oracle.loaded_as_manifold) << GetParam();
     // The new vertex's distance, and the largest one as the scale of the tolerance.
     const std::vector<double> expected = {oracle.distances[middle], exactgeo_test::max_finite(oracle.distances)};
-    for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllRuleCombinations) {
+    for (const exactgeo::GeodesicOptions& options : exactgeo_test::kAllVariants) {
       const double ours = solver.solve(std::span(&source, 1), std::span(&target, 1), options).target_distances[0];
       EXPECT_TRUE(exactgeo_test::distances_match(std::vector<double>{ours, expected[1]}, expected, kRelativeTolerance))
           << GetParam() << " target on face " << target.face;

@@ -118,8 +118,8 @@ class PropertiesOf : public testing::TestWithParam<exactgeo::GeodesicOptions> {
   }
 };
 
-INSTANTIATE_TEST_SUITE_P(Properties, PropertiesOf, testing::ValuesIn(exactgeo_test::kAllRuleCombinations),
-                         exactgeo_test::rule_combination_name);
+INSTANTIATE_TEST_SUITE_P(Properties, PropertiesOf, testing::ValuesIn(exactgeo_test::kAllVariants),
+                         exactgeo_test::variant_name);
 
 TEST(PropertiesMeshes, SharedMeshesAreIncludedWhenPresent) {
   EXACTGEO_SKIP_IF_NO_SHARED_MESHES();

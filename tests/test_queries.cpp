@@ -139,8 +139,8 @@ TEST(SurfacePoints, ConstructorsAndPositions) {
 // ---- Sources and targets on faces and edges --------------------------------------------------------------
 
 class PointQueries : public testing::TestWithParam<GeodesicOptions> {};
-INSTANTIATE_TEST_SUITE_P(Queries, PointQueries, testing::ValuesIn(exactgeo_test::kAllRuleCombinations),
-                         exactgeo_test::rule_combination_name);
+INSTANTIATE_TEST_SUITE_P(Queries, PointQueries, testing::ValuesIn(exactgeo_test::kAllVariants),
+                         exactgeo_test::variant_name);
 
 TEST_P(PointQueries, FlatGridDistancesFromPointsAreEuclidean) {
   const Mesh mesh = flat_grid();

@@ -2,7 +2,7 @@
 // (repeated and coincident vertices, collinear points, flat and zero-area faces, the same face twice in
 // either orientation, edges shared by many faces, several pieces) must neither crash, hang nor produce
 // NaN, and every distance must still lie between the straight-line distance and the shortest edge path.
-// Each soup runs under all four pruning-rule combinations, with and without welding.
+// Each soup runs under every variant and pruning-rule combination, with and without welding.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -85,8 +85,8 @@ bool survives_welding(const MeshSoup& soup, std::uint32_t v) {
 
 class RobustnessUnder : public testing::TestWithParam<exactgeo::GeodesicOptions> {};
 
-INSTANTIATE_TEST_SUITE_P(Robustness, RobustnessUnder, testing::ValuesIn(exactgeo_test::kAllRuleCombinations),
-                         exactgeo_test::rule_combination_name);
+INSTANTIATE_TEST_SUITE_P(Robustness, RobustnessUnder, testing::ValuesIn(exactgeo_test::kAllVariants),
+                         exactgeo_test::variant_name);
 
 TEST_P(RobustnessUnder, RandomJunkSoupsGiveBoundedDistances) {
   Random random(424242);

@@ -7,6 +7,8 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "exactgeo/mesh.hpp"
@@ -19,9 +21,24 @@ class VtpEngine;
 struct SourceSite;
 }
 
+// The paper's variants (Section 5): all exact, they differ in speed and in how many windows they propagate.
 enum class Algorithm {
-  vtp,  // vertex-sorted wavefront, order-free secondary merge (the paper's final algorithm)
+  vtp,    // vertex-sorted wavefront, order-free secondary merge (the paper's final algorithm)
+  opvtp,  // vertex-sorted wavefront, order-preserving secondary merge (binary-search insertion)
+  ftp,    // face-sorted wavefront (one triangle per iteration), order-free secondary merge
+  opftp,  // face-sorted wavefront, order-preserving secondary merge
 };
+
+// Names as used by the command line and the Python package, in the enum's order.
+inline constexpr std::array<std::pair<Algorithm, std::string_view>, 4> kAlgorithmNames = {{
+    {Algorithm::vtp, "vtp"},
+    {Algorithm::opvtp, "opvtp"},
+    {Algorithm::ftp, "ftp"},
+    {Algorithm::opftp, "opftp"},
+}};
+std::string_view algorithm_name(Algorithm algorithm);
+// Throws exactgeo::Error(invalid_argument) listing the known names.
+Algorithm parse_algorithm(std::string_view name);
 
 struct GeodesicOptions {
   Algorithm algorithm = Algorithm::vtp;
@@ -33,15 +50,32 @@ struct GeodesicOptions {
   // Distances above this are not computed: such vertices and targets get +inf, and the wavefront stops
   // there, so the work shrinks with the radius. Must not be negative or NaN.
   double max_distance = std::numeric_limits<double>::infinity();
+  // Splits the run's time into window propagation, pruning and queue management (GeodesicStats). The
+  // clock reads cost a few percent, so this is off unless asked for.
+  bool collect_timings = false;
 };
 
+// Counts as the paper defines them (Section 6.2): a propagation is prime if it crosses a triangle that
+// joined the traversed area in the current iteration, secondary if it crosses one inside the area. A
+// merge is a list arriving at a wavefront edge that already holds windows: prime on a new wavefront edge
+// (Rule 3's PrimeMerge), secondary on an older one (SecondMerge).
 struct GeodesicStats {
-  std::uint64_t window_propagations = 0;  // one window across one triangle (a split counts twice)
-  std::uint64_t peak_windows = 0;         // most windows alive at once
-  std::uint64_t peak_window_bytes = 0;    // bytes of window storage at its largest (live and reusable)
-  std::uint64_t vertex_pops = 0;          // wavefront vertices taken from the priority queue
-  std::uint64_t pseudo_source_emissions = 0;  // saddle or boundary vertices that re-emitted windows
-  double propagation_seconds = 0.0;       // wall time of the propagation
+  std::uint64_t window_propagations = 0;     // one window across one triangle (a split counts twice)
+  std::uint64_t prime_propagations = 0;      // of which inside the newly added triangles
+  std::uint64_t secondary_propagations = 0;  // of which inside the traversed area
+  std::uint64_t prime_merges = 0;
+  std::uint64_t secondary_merges = 0;
+  std::uint64_t peak_windows = 0;            // most windows alive at once
+  std::uint64_t peak_window_bytes = 0;       // bytes of window storage at its largest (live and reusable)
+  std::uint64_t vertex_pops = 0;             // wavefront vertices taken from the queue (vertex-sorted)
+  std::uint64_t face_pops = 0;               // wavefront triangles taken from the queue (face-sorted)
+  std::uint64_t pseudo_source_emissions = 0;  // saddle or boundary vertices that (re-)emitted windows
+  double propagation_seconds = 0.0;          // wall time of the propagation
+  // With GeodesicOptions::collect_timings, parts of propagation_seconds (0 without): crossing window lists
+  // over triangles, pairwise pruning (Rules 2 and 3), and the wavefront priority queue.
+  double window_propagation_seconds = 0.0;
+  double pruning_seconds = 0.0;
+  double queue_seconds = 0.0;
 };
 
 inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();

@@ -217,12 +217,16 @@ testing::AssertionResult distances_match(std::span<const double> actual, std::sp
   return testing::AssertionFailure() << message.str();
 }
 
-std::string rule_combination_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info) {
-  return std::string("Rule1") + (info.param.rule1 ? "On" : "Off") + "_Rule23" + (info.param.rule23 ? "On" : "Off");
+std::string variant_label(const exactgeo::GeodesicOptions& options) {
+  return std::string(exactgeo::algorithm_name(options.algorithm)) + ", rule1 " + (options.rule1 ? "on" : "off") +
+         ", rule23 " + (options.rule23 ? "on" : "off");
+}
+
+std::string variant_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info) {
+  return std::string(exactgeo::algorithm_name(info.param.algorithm)) + "_Rule1" + (info.param.rule1 ? "On" : "Off") +
+         "_Rule23" + (info.param.rule23 ? "On" : "Off");
 }
 
 }  // namespace exactgeo_test
 
-void exactgeo::PrintTo(const GeodesicOptions& options, std::ostream* out) {
-  *out << "rule1 " << (options.rule1 ? "on" : "off") << ", rule23 " << (options.rule23 ? "on" : "off");
-}
+void exactgeo::PrintTo(const GeodesicOptions& options, std::ostream* out) { *out << exactgeo_test::variant_label(options); }

@@ -116,17 +116,27 @@ testing::AssertionResult distances_match(std::span<const double> actual, std::sp
 
 // ---- Engine options ------------------------------------------------------------------------------------
 
-// The paper's pruning rules switched on and off in all four combinations: every distance must be exact
-// under each of them.
-inline constexpr std::array<exactgeo::GeodesicOptions, 4> kAllRuleCombinations = {{
-    {.rule1 = true, .rule23 = true},
-    {.rule1 = true, .rule23 = false},
-    {.rule1 = false, .rule23 = true},
-    {.rule1 = false, .rule23 = false},
-}};
+// Every variant of the paper (vtp, opvtp, ftp, opftp), each with its pruning rules switched on and off in
+// all four combinations: every distance must be exact under each of them.
+inline constexpr std::array<exactgeo::GeodesicOptions, 16> kAllVariants = [] {
+  std::array<exactgeo::GeodesicOptions, 16> variants{};
+  std::size_t i = 0;
+  for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames)
+    for (const bool rule1 : {true, false})
+      for (const bool rule23 : {true, false}) variants[i++] = {.algorithm = algorithm, .rule1 = rule1, .rule23 = rule23};
+  return variants;
+}();
 
-// Test-name suffix for a parameter from kAllRuleCombinations, e.g. "Rule1On_Rule23Off".
-std::string rule_combination_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info);
+// The library's defaults: the variant whose figures the tests print.
+inline bool is_default_variant(const exactgeo::GeodesicOptions& options) {
+  return options.algorithm == exactgeo::Algorithm::vtp && options.rule1 && options.rule23;
+}
+
+// For messages, e.g. "ftp, rule1 off, rule23 on".
+std::string variant_label(const exactgeo::GeodesicOptions& options);
+
+// Test-name suffix for a parameter from kAllVariants, e.g. "ftp_Rule1On_Rule23Off".
+std::string variant_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info);
 
 }  // namespace exactgeo_test
 

@@ -1,5 +1,6 @@
-// The wavefront priority queue of vertices (paper Section 5.2): an indexed binary min-heap keyed by
-// (distance, vertex id), with decrease-key. Breaking ties by id keeps vertices with equal distances apart.
+// The wavefront priority queue: an indexed binary min-heap of element ids (vertices for the vertex-sorted
+// variants, paper Section 5.2; faces for the face-sorted ones, Section 5.1) keyed by (distance, id), with
+// decrease-key. Breaking ties by id keeps elements with equal distances apart.
 #pragma once
 
 #include <cstdint>
@@ -9,21 +10,21 @@
 
 namespace exactgeo::detail {
 
-class VertexQueue {
+class WavefrontQueue {
  public:
-  void reset(std::size_t vertex_count) {
+  void reset(std::size_t id_count) {
     heap_.clear();
-    position_.assign(vertex_count, kNone);
+    position_.assign(id_count, kNone);
   }
   bool empty() const { return heap_.empty(); }
-  bool contains(std::uint32_t v) const { return position_[v] != kNone; }
+  bool contains(std::uint32_t id) const { return position_[id] != kNone; }
 
-  // Inserts v with `key`, or lowers its key if it is queued with a larger one.
-  void push_or_decrease(std::uint32_t v, double key) {
-    std::uint32_t i = position_[v];
+  // Inserts `id` with `key`, or lowers its key if it is queued with a larger one.
+  void push_or_decrease(std::uint32_t id, double key) {
+    std::uint32_t i = position_[id];
     if (i == kNone) {
       i = static_cast<std::uint32_t>(heap_.size());
-      heap_.push_back({key, v});
+      heap_.push_back({key, id});
     } else if (key < heap_[i].key) {
       heap_[i].key = key;
     } else {
@@ -32,13 +33,13 @@ class VertexQueue {
     sift_up(i);
   }
   std::uint32_t pop() {
-    const std::uint32_t top = heap_.front().vertex;
+    const std::uint32_t top = heap_.front().id;
     position_[top] = kNone;
     const Entry last = heap_.back();
     heap_.pop_back();
     if (!heap_.empty()) {
       heap_[0] = last;
-      position_[last.vertex] = 0;
+      position_[last.id] = 0;
       sift_down(0);
     }
     return top;
@@ -47,14 +48,14 @@ class VertexQueue {
  private:
   struct Entry {
     double key;
-    std::uint32_t vertex;
+    std::uint32_t id;
   };
   static bool before(const Entry& a, const Entry& b) {
-    return a.key < b.key || (a.key == b.key && a.vertex < b.vertex);
+    return a.key < b.key || (a.key == b.key && a.id < b.id);
   }
   void place(std::uint32_t i, const Entry& e) {
     heap_[i] = e;
-    position_[e.vertex] = i;
+    position_[e.id] = i;
   }
   void sift_up(std::uint32_t i) {
     const Entry e = heap_[i];
