@@ -76,6 +76,9 @@ def vertex_array(vertices: object, vertex_count: int, what: str, name: Callable[
 
     `name(i)` names element i as the library does: "source vertex", "target 3: vertex", "vertex".
     """
+    # One plain index is the common case; checking it here keeps a query on a small mesh cheap.
+    if isinstance(vertices, (int, np.integer)) and not isinstance(vertices, bool) and 0 <= vertices < INDEX_LIMIT:
+        return np.array([vertices], dtype=np.uint32)
     array = np.asarray(vertices)
     return index_array(
         array.reshape(1) if array.ndim == 0 else array,

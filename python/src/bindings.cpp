@@ -57,35 +57,22 @@ std::vector<std::int64_t> signed_indices(std::span<const std::uint32_t> indices)
   return result;
 }
 
-// The names Python uses for exactgeo::Algorithm values. A new enum value needs one line here.
-constexpr std::pair<std::string_view, exactgeo::Algorithm> kAlgorithms[] = {
-    {"vtp", exactgeo::Algorithm::vtp},
-};
-
-exactgeo::Algorithm algorithm_named(std::string_view name) {
-  std::string known;
-  for (const auto& [algorithm_name, algorithm] : kAlgorithms) {
-    if (algorithm_name == name) return algorithm;
-    known += (known.empty() ? "" : ", ") + std::string(algorithm_name);
-  }
-  throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
-                        "unknown algorithm '" + std::string(name) + "' (known: " + known + ")");
-}
-
-std::string_view name_of(exactgeo::Algorithm algorithm) {
-  for (const auto& [name, value] : kAlgorithms)
-    if (value == algorithm) return name;
-  throw exactgeo::Error(exactgeo::ErrorCode::internal, "an Algorithm value has no name in the Python module");
-}
-
 nb::dict stats_dict(const exactgeo::GeodesicStats& stats) {
   nb::dict dict;
   dict["window_propagations"] = stats.window_propagations;
+  dict["prime_propagations"] = stats.prime_propagations;
+  dict["secondary_propagations"] = stats.secondary_propagations;
+  dict["prime_merges"] = stats.prime_merges;
+  dict["secondary_merges"] = stats.secondary_merges;
   dict["peak_windows"] = stats.peak_windows;
   dict["peak_window_bytes"] = stats.peak_window_bytes;
   dict["vertex_pops"] = stats.vertex_pops;
+  dict["face_pops"] = stats.face_pops;
   dict["pseudo_source_emissions"] = stats.pseudo_source_emissions;
   dict["propagation_seconds"] = stats.propagation_seconds;
+  dict["window_propagation_seconds"] = stats.window_propagation_seconds;
+  dict["pruning_seconds"] = stats.pruning_seconds;
+  dict["queue_seconds"] = stats.queue_seconds;
   return dict;
 }
 
@@ -240,9 +227,10 @@ NB_MODULE(_core, m) {
   m.attr("__version__") = exactgeo::kVersion;
   nb::register_exception_translator(translate_error);
 
+  // The library's own table of names: a new Algorithm value reaches Python without a change here.
   m.def("algorithm_names", [] {
     std::vector<std::string> names;
-    for (const auto& [name, algorithm] : kAlgorithms) names.emplace_back(name);
+    for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames) names.emplace_back(name);
     return names;
   });
 
@@ -251,18 +239,22 @@ NB_MODULE(_core, m) {
       .def(
           "__init__",
           [](exactgeo::GeodesicOptions* self, std::string_view algorithm, bool rule1, bool rule23,
-             double max_distance) {
-            new (self) exactgeo::GeodesicOptions{.algorithm = algorithm_named(algorithm),
+             double max_distance, bool collect_timings) {
+            new (self) exactgeo::GeodesicOptions{.algorithm = exactgeo::parse_algorithm(algorithm),
                                                  .rule1 = rule1,
                                                  .rule23 = rule23,
-                                                 .max_distance = max_distance};
+                                                 .max_distance = max_distance,
+                                                 .collect_timings = collect_timings};
           },
-          nb::kw_only(), "algorithm"_a = std::string(name_of(defaults.algorithm)), "rule1"_a = defaults.rule1,
-          "rule23"_a = defaults.rule23, "max_distance"_a = defaults.max_distance)
-      .def_prop_ro("algorithm", [](const exactgeo::GeodesicOptions& o) { return std::string(name_of(o.algorithm)); })
+          nb::kw_only(), "algorithm"_a = std::string(exactgeo::algorithm_name(defaults.algorithm)),
+          "rule1"_a = defaults.rule1, "rule23"_a = defaults.rule23, "max_distance"_a = defaults.max_distance,
+          "collect_timings"_a = defaults.collect_timings)
+      .def_prop_ro("algorithm",
+                   [](const exactgeo::GeodesicOptions& o) { return std::string(exactgeo::algorithm_name(o.algorithm)); })
       .def_ro("rule1", &exactgeo::GeodesicOptions::rule1)
       .def_ro("rule23", &exactgeo::GeodesicOptions::rule23)
-      .def_ro("max_distance", &exactgeo::GeodesicOptions::max_distance);
+      .def_ro("max_distance", &exactgeo::GeodesicOptions::max_distance)
+      .def_ro("collect_timings", &exactgeo::GeodesicOptions::collect_timings);
 
   nb::class_<exactgeo::Mesh>(m, "Mesh")
       .def(

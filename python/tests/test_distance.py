@@ -212,6 +212,9 @@ def test_stats_is_a_dict_of_the_engine_counters(sheet):
     assert stats["peak_windows"] > 0 and stats["peak_window_bytes"] > 0
     assert stats["propagation_seconds"] >= 0
     assert all(isinstance(value, (int, float)) for value in stats.values())
+    assert stats["pruning_seconds"] == 0  # phases are timed only when asked for
+    timed = exactgeo.GeodesicSolver(sheet).solve(0, collect_timings=True).stats
+    assert timed["window_propagation_seconds"] > 0 and timed["pruning_seconds"] > 0
 
 
 def test_a_solver_is_reusable_and_its_results_stay_valid(sheet):
