@@ -53,8 +53,11 @@ def index_array(
         if not whole.all():
             position = _first(~whole)
             raise ValueError(f"{what} must be whole numbers: {element(position)} {_plain(array[position])}")
-    # Compared as float64 when the input is float: exact for every index that fits 32 bits.
-    if array.size and (array.min() < 0 or array.max() >= INDEX_LIMIT):
+    # Only the bounds the dtype allows are scanned for (the common int32 needs one pass, uint32 none). Floats
+    # are compared as float64: exact for every index that fits 32 bits.
+    may_be_negative = kind != "u"
+    may_be_too_large = kind == "f" or array.dtype.itemsize > 4
+    if array.size and ((may_be_negative and array.min() < 0) or (may_be_too_large and array.max() >= INDEX_LIMIT)):
         position = _first((array < 0) | (array >= INDEX_LIMIT))
         raise ValueError(f"{element(position)} {_plain(array[position])}{out_of_range}")
     return np.ascontiguousarray(array, dtype=np.uint32)

@@ -120,6 +120,9 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
         # Values the library cannot receive, in its wording.
         (SQUARE, [[0, 1, 2], [1, 3, -1]], "face 1 names vertex -1, but the mesh has 4 vertices"),
         (SQUARE, np.array([[0, 1, 2], [1, 3, 2**40]]), f"face 1 names vertex {2**40}, but the mesh has 4 vertices"),
+        (SQUARE, np.array([[0, 1, -3]], dtype=np.int8), "face 0 names vertex -3, but the mesh has 4 vertices"),
+        (SQUARE, np.array([[0, 1, 2**33]], dtype=np.uint64), f"face 0 names vertex {2**33}, but the mesh has 4 vertices"),
+        (SQUARE, np.array([[0, 1, -1.0]]), "face 0 names vertex -1, but the mesh has 4 vertices"),
         # Conversions that would lose something.
         (SQUARE, [[0, 1, 2.5]], "faces must be whole numbers: face 0 names vertex 2.5"),
         (SQUARE, [[0, 1, np.nan]], "faces must be whole numbers: face 0 names vertex nan"),
