@@ -103,15 +103,18 @@ class GeodesicSolver:
 
         Sources and targets are vertex indices (an int, a list or an array of any integer dtype), a
         SurfacePoint, a list of them, or SurfacePoints. A vertex source split by the mesh into several
-        surface copies (non-manifold) is a source at each; a vertex target is the point at the vertex on its
-        first face. With targets, the run stops as soon as they are final: vertex distances are then exact up
-        to the farthest target and inf beyond. `max_distance`: nothing farther is computed (inf).
+        surface copies (non-manifold) is a source at each, so sources are either all vertices or all points.
+        Targets may mix the two: a vertex target is the point at the vertex on its first face. With targets,
+        the run stops as soon as they are final: vertex distances are then exact up to the farthest target
+        and inf beyond. `max_distance`: nothing farther is computed (inf).
         """
         config = geodesic_options(max_distance, options)
         ends = _NO_TARGETS if targets is None else target_points(targets, self._mesh)
         starts = source_sites(sources, self._mesh)
         if isinstance(starts, SurfacePoints):
-            arrays = self._core.solve_from_points(starts.faces, starts.barycentric, ends.faces, ends.barycentric, config)
+            arrays = self._core.solve_from_points(
+                starts.faces, starts.barycentric, ends.faces, ends.barycentric, config
+            )
         else:
             arrays = self._core.solve_from_vertices(starts, ends.faces, ends.barycentric, config)
         return GeodesicResult(*arrays)

@@ -92,7 +92,7 @@ def vertex_array(vertices: object, vertex_count: int, what: str, name: Callable[
     )
 
 
-def count(value: object, what: str, minimum: int = 0) -> int:
+def count(value: int, what: str, minimum: int = 0) -> int:
     """A whole number of things (samples, threads), at least `minimum`."""
     try:
         number = operator.index(value)
@@ -111,7 +111,9 @@ def cutoff(max_distance: float | None) -> float:
 def _check_shape(array: np.ndarray, what: str, columns: int | None) -> None:
     """(n, columns), or 1-D (indices) without columns."""
     if columns is None and array.ndim != 1:
-        raise ValueError(f"{what} must be a single index or a 1-D array of indices, not an array of shape {array.shape}")
+        raise ValueError(
+            f"{what} must be a single index or a 1-D array of indices, not an array of shape {array.shape}"
+        )
     if columns is not None and (array.ndim != 2 or array.shape[1] != columns):
         raise ValueError(f"{what} must have shape (n, {columns}), not {array.shape}")
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 import operator
 from collections.abc import Sequence
-from typing import Union
+from typing import Any, Union
 
 import numpy as np
 
@@ -47,7 +47,10 @@ class SurfacePoints:
 
     def __init__(self, faces: object, barycentric: object) -> None:
         self.faces = _inputs.index_array(
-            faces, "SurfacePoints faces", columns=None, element=lambda position: "SurfacePoints: face",
+            faces,
+            "SurfacePoints faces",
+            columns=None,
+            element=lambda position: "SurfacePoints: face",
             out_of_range=" is not a face index",
         )
         self.barycentric = _inputs.real_array(barycentric, "barycentric coordinates", columns=3)
@@ -80,39 +83,45 @@ VertexIndices = Union[int, Sequence[int], np.ndarray]
 Sites = Union[VertexIndices, SurfacePoint, Sequence[SurfacePoint], SurfacePoints]
 
 
-def source_sites(sources: object, mesh: Mesh) -> np.ndarray | SurfacePoints:
+def source_sites(sources: Any, mesh: Mesh) -> np.ndarray | SurfacePoints:
     """Vertex indices as a uint32 array, or the points as SurfacePoints.
 
     Vertices and points do not mix: a vertex that the mesh split into several surface copies (non-manifold)
     is a source at every copy, a point only on its face.
     """
-    if isinstance(sources, SurfacePoints):
-        return sources
-    if isinstance(sources, SurfacePoint):
-        return SurfacePoints.of([sources])
-    if isinstance(sources, Sequence) and any(isinstance(s, SurfacePoint) for s in sources):
-        if not all(isinstance(s, SurfacePoint) for s in sources):
-            raise ValueError(
-                "sources mix vertex indices and SurfacePoints: give SurfacePoints only "
-                "(exactgeo.vertex_point turns a vertex into one)"
-            )
-        return SurfacePoints.of(sources)
-    return _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
+    if not _holds_points(sources):
+        return _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
+    if isinstance(sources, Sequence) and not all(isinstance(s, SurfacePoint) for s in sources):
+        raise ValueError(
+            "sources mix vertex indices and SurfacePoints: give SurfacePoints only "
+            "(exactgeo.vertex_point turns a vertex into one)"
+        )
+    return _as_surface_points(sources)
 
 
-def target_points(targets: object, mesh: Mesh) -> SurfacePoints:
+def target_points(targets: Any, mesh: Mesh) -> SurfacePoints:
     """Targets are points: a vertex target is the point at the vertex on the first face that uses it."""
-    if isinstance(targets, SurfacePoints):
-        return targets
-    if isinstance(targets, SurfacePoint):
-        return SurfacePoints.of([targets])
-    if isinstance(targets, Sequence) and any(isinstance(t, SurfacePoint) for t in targets):
-        return SurfacePoints.of([t if isinstance(t, SurfacePoint) else _vertex_target(mesh, i, t) for i, t in enumerate(targets)])
-    vertices = _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
-    return SurfacePoints(*_core.vertex_points(mesh._core, vertices, "target"))
+    if not _holds_points(targets):
+        vertices = _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
+        return SurfacePoints(*_core.vertex_points(mesh._core, vertices, "target"))
+    if isinstance(targets, Sequence):
+        targets = [t if isinstance(t, SurfacePoint) else _vertex_target(mesh, i, t) for i, t in enumerate(targets)]
+    return _as_surface_points(targets)
 
 
-def _vertex_target(mesh: Mesh, index: int, vertex: object) -> SurfacePoint:
+def _holds_points(sites: Any) -> bool:
+    return isinstance(sites, (SurfacePoint, SurfacePoints)) or (
+        isinstance(sites, Sequence) and any(isinstance(s, SurfacePoint) for s in sites)
+    )
+
+
+def _as_surface_points(points: Any) -> SurfacePoints:
+    if isinstance(points, SurfacePoints):
+        return points
+    return SurfacePoints.of([points] if isinstance(points, SurfacePoint) else points)
+
+
+def _vertex_target(mesh: Mesh, index: int, vertex: int) -> SurfacePoint:
     try:
         return vertex_point(mesh, vertex)
     except ValueError as error:
@@ -131,12 +140,12 @@ def edge_point(mesh: Mesh, from_vertex: int, to_vertex: int, t: float) -> Surfac
     ends = _inputs.vertex_array(
         [from_vertex, to_vertex], mesh.vertex_count, "edge", lambda i: f"edge ({from_vertex}, {to_vertex}): vertex"
     )
-    face, barycentric = _core.edge_point(mesh._core, int(ends[0]), int(ends[1]), float(t))
-    return SurfacePoint(face, barycentric)
+    face, (b0, b1, b2) = _core.edge_point(mesh._core, int(ends[0]), int(ends[1]), float(t))
+    return SurfacePoint(face, (b0, b1, b2))
 
 
 def point_position(mesh: Mesh, points: SurfacePoint | SurfacePoints) -> np.ndarray:
     """Where points lie in space: (3,) for one SurfacePoint, (n, 3) for SurfacePoints."""
-    many = points if isinstance(points, SurfacePoints) else SurfacePoints.of([points])
+    many = _as_surface_points(points)
     positions = _core.point_positions(mesh._core, many.faces, many.barycentric)
     return positions if isinstance(points, SurfacePoints) else positions[0]

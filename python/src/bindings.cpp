@@ -10,7 +10,11 @@
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
+#include <exception>
+#include <initializer_list>
 #include <mutex>
 #include <span>
 #include <string>
@@ -96,7 +100,8 @@ nb::dict report_dict(const exactgeo::MeshReport& report) {
   return dict;
 }
 
-// Surface points travel as two arrays: faces (n) and barycentric coordinates (n x 3).
+// Surface points travel as two arrays: faces (n) and barycentric coordinates (n x 3). The package pairs
+// them; the check keeps a direct call of the module from reading past the shorter one.
 std::vector<exactgeo::SurfacePoint> surface_points(const IndexArray& faces, const PointArray& barycentric) {
   if (faces.shape(0) != barycentric.shape(0))
     throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
@@ -224,7 +229,7 @@ void translate_error(const std::exception_ptr& error, void*) {
 
 NB_MODULE(_core, m) {
   m.doc() = "exactgeo's compiled core. Use the exactgeo package, which converts and checks the arguments.";
-  m.attr("__version__") = exactgeo::kVersion;
+  m.attr("version") = exactgeo::kVersion;
   nb::register_exception_translator(translate_error);
 
   // The library's own table of names: a new Algorithm value reaches Python without a change here.

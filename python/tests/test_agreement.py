@@ -34,7 +34,9 @@ def assert_agree(mesh_name: str, ours: np.ndarray, theirs: np.ndarray) -> None:
 
 @pytest.mark.parametrize("name", MESHES)
 def test_agrees_with_pygeodesic(name):
-    geodesic = pytest.importorskip("pygeodesic.geodesic", reason="pygeodesic not installed (python/requirements-test.txt)")
+    geodesic = pytest.importorskip(
+        "pygeodesic.geodesic", reason="pygeodesic not installed (python/requirements-test.txt)"
+    )
     mesh = exactgeo.Mesh.load(shared_mesh(name))
     solver = geodesic.PyGeodesicAlgorithmExact(mesh.vertices, mesh.faces.astype(np.int32))
     for source in SOURCES:
@@ -47,7 +49,9 @@ def test_agrees_with_gdist(name):
     gdist = pytest.importorskip("gdist", reason="gdist not installed (tvb-gdist, python/requirements-test.txt)")
     mesh = exactgeo.Mesh.load(shared_mesh(name))
     for source in SOURCES:
-        theirs = gdist.compute_gdist(mesh.vertices, mesh.faces.astype(np.int32), source_indices=np.array([source], dtype=np.int32))
+        theirs = gdist.compute_gdist(
+            mesh.vertices, mesh.faces.astype(np.int32), source_indices=np.array([source], dtype=np.int32)
+        )
         assert_agree(name, exactgeo.distance(mesh, source), np.asarray(theirs))
 
 
@@ -56,7 +60,10 @@ def test_agrees_with_the_cgal_oracle(name, tmp_path):
     if not CGAL_DRIVER.is_file():
         pytest.skip(f"CGAL driver not built at {CGAL_DRIVER} (make build, with libcgal-dev)")
     path = shared_mesh(name)
-    subprocess.run([str(CGAL_DRIVER), str(path), "--source", "0", "--out", str(tmp_path / "d.txt")], check=True,
-                   capture_output=True)
+    subprocess.run(
+        [str(CGAL_DRIVER), str(path), "--source", "0", "--out", str(tmp_path / "d.txt")],
+        check=True,
+        capture_output=True,
+    )
     theirs = np.loadtxt(tmp_path / "d.txt")
     assert_agree(name, exactgeo.distance(exactgeo.Mesh.load(path), 0), theirs)

@@ -54,16 +54,39 @@ def test_several_sources_give_the_nearest_one(sheet):
 
 def test_values_match_the_command_line(cli, tmp_path, sheet):
     mesh_file = write_obj(tmp_path / "sheet.obj", sheet.vertices, sheet.faces)
-    run_cli("distance", mesh_file, "--source", 0, "--source", 99, "--source-point", "40:0.2,0.3,0.5",
-            "--targets", "5;130:0.1,0.1,0.8", "--labels", "--out", tmp_path / "d.csv",
-            "--target-out", tmp_path / "t.csv", "--stats", tmp_path / "s.json", "--quiet")
+    run_cli(
+        "distance",
+        mesh_file,
+        "--source",
+        0,
+        "--source",
+        99,
+        "--source-point",
+        "40:0.2,0.3,0.5",
+        "--targets",
+        "5;130:0.1,0.1,0.8",
+        "--labels",
+        "--out",
+        tmp_path / "d.csv",
+        "--target-out",
+        tmp_path / "t.csv",
+        "--stats",
+        tmp_path / "s.json",
+        "--quiet",
+    )
     table = np.genfromtxt(tmp_path / "d.csv", delimiter=",", names=True)
     targets = np.genfromtxt(tmp_path / "t.csv", delimiter=",", names=True)
 
     # The command line numbers --source vertices first, then --source-point points; in Python the same
     # sources are SurfacePoints in that order.
-    sources = [exactgeo.vertex_point(sheet, 0), exactgeo.vertex_point(sheet, 99), exactgeo.SurfacePoint(40, (0.2, 0.3, 0.5))]
-    result = exactgeo.GeodesicSolver(sheet).solve(sources, [exactgeo.vertex_point(sheet, 5), exactgeo.SurfacePoint(130, (0.1, 0.1, 0.8))])
+    sources = [
+        exactgeo.vertex_point(sheet, 0),
+        exactgeo.vertex_point(sheet, 99),
+        exactgeo.SurfacePoint(40, (0.2, 0.3, 0.5)),
+    ]
+    result = exactgeo.GeodesicSolver(sheet).solve(
+        sources, [exactgeo.vertex_point(sheet, 5), exactgeo.SurfacePoint(130, (0.1, 0.1, 0.8))]
+    )
     # Targets stop the run early, so only vertices up to the farthest target are final.
     final = np.isfinite(result.distances)
     np.testing.assert_allclose(result.distances[final], table["distance"][final], rtol=1e-13, atol=0)
@@ -153,31 +176,79 @@ def test_barycentric_rounding_is_forgiven(flat):
     ("call", "error", "message"),
     [
         # The library's messages (C++ exactgeo::Error).
-        (lambda m: exactgeo.distance(m, 10_000), ValueError, r"source vertex 10000 is out of range \(mesh has 169 vertices\)"),
+        (
+            lambda m: exactgeo.distance(m, 10_000),
+            ValueError,
+            r"source vertex 10000 is out of range \(mesh has 169 vertices\)",
+        ),
         (lambda m: exactgeo.distance(m, []), ValueError, "no source vertex given"),
-        (lambda m: exactgeo.distance(m, exactgeo.SurfacePoint(999)), ValueError,
-         r"source 0: face 999 is out of range \(mesh has 288 faces\)"),
-        (lambda m: exactgeo.distance(m, [exactgeo.SurfacePoint(0), exactgeo.SurfacePoint(1, (0.7, 0.7, 0))]), ValueError,
-         r"source 1: \(0.69999999999999996, 0.69999999999999996, 0\) are not barycentric coordinates on face 1"),
-        (lambda m: exactgeo.distance(m, 0, targets=[1, 10_000]), ValueError,
-         r"target 1: vertex 10000 is out of range \(mesh has 169 vertices\)"),
-        (lambda m: exactgeo.distance(m, 0, targets=exactgeo.SurfacePoint(300)), ValueError, "target 0: face 300 is out of range"),
-        (lambda m: exactgeo.distance(m, 0, targets=[exactgeo.SurfacePoint(0), 10_000]), ValueError,
-         r"target 1: vertex 10000 is out of range \(mesh has 169 vertices\)"),
+        (
+            lambda m: exactgeo.distance(m, exactgeo.SurfacePoint(999)),
+            ValueError,
+            r"source 0: face 999 is out of range \(mesh has 288 faces\)",
+        ),
+        (
+            lambda m: exactgeo.distance(m, [exactgeo.SurfacePoint(0), exactgeo.SurfacePoint(1, (0.7, 0.7, 0))]),
+            ValueError,
+            r"source 1: \(0.69999999999999996, 0.69999999999999996, 0\) are not barycentric coordinates on face 1",
+        ),
+        (
+            lambda m: exactgeo.distance(m, 0, targets=[1, 10_000]),
+            ValueError,
+            r"target 1: vertex 10000 is out of range \(mesh has 169 vertices\)",
+        ),
+        (
+            lambda m: exactgeo.distance(m, 0, targets=exactgeo.SurfacePoint(300)),
+            ValueError,
+            "target 0: face 300 is out of range",
+        ),
+        (
+            lambda m: exactgeo.distance(m, 0, targets=[exactgeo.SurfacePoint(0), 10_000]),
+            ValueError,
+            r"target 1: vertex 10000 is out of range \(mesh has 169 vertices\)",
+        ),
         (lambda m: exactgeo.distance(m, 0, max_distance=-1), ValueError, "max_distance must be a non-negative number"),
-        (lambda m: exactgeo.distance(m, 0, max_distance=float("nan")), ValueError, "max_distance must be a non-negative number"),
-        (lambda m: exactgeo.distance(m, 0, algorithm="dijkstra"), ValueError, "unknown algorithm 'dijkstra' \\(known: vtp"),
-        (lambda m: exactgeo.vertex_point(m, 500), ValueError, r"^vertex 500 is out of range \(mesh has 169 vertices\)$"),
+        (
+            lambda m: exactgeo.distance(m, 0, max_distance=float("nan")),
+            ValueError,
+            "max_distance must be a non-negative number",
+        ),
+        (
+            lambda m: exactgeo.distance(m, 0, algorithm="dijkstra"),
+            ValueError,
+            "unknown algorithm 'dijkstra' \\(known: vtp",
+        ),
+        (
+            lambda m: exactgeo.vertex_point(m, 500),
+            ValueError,
+            r"^vertex 500 is out of range \(mesh has 169 vertices\)$",
+        ),
         (lambda m: exactgeo.edge_point(m, 0, 100, 0.5), ValueError, r"edge \(0, 100\) is not an edge of any face"),
-        (lambda m: exactgeo.edge_point(m, 0, 1, 1.5), ValueError, r"edge \(0, 1\): parameter 1.500000 is outside \[0, 1\]"),
+        (
+            lambda m: exactgeo.edge_point(m, 0, 1, 1.5),
+            ValueError,
+            r"edge \(0, 1\): parameter 1.500000 is outside \[0, 1\]",
+        ),
         # What the library cannot receive, in its wording.
         (lambda m: exactgeo.distance(m, -1), ValueError, r"source vertex -1 is out of range \(mesh has 169 vertices\)"),
         (lambda m: exactgeo.distance(m, 0, targets=[-2]), ValueError, r"target 0: vertex -2 is out of range"),
         (lambda m: exactgeo.distance(m, [0.5]), ValueError, "sources must be whole numbers: source vertex 0.5"),
-        (lambda m: exactgeo.distance(m, np.ones(169, dtype=bool)), ValueError, "sources must be integer indices, not booleans"),
-        (lambda m: exactgeo.distance(m, [[0, 1]]), ValueError, r"sources must be a single index or a 1-D array of indices"),
+        (
+            lambda m: exactgeo.distance(m, np.ones(169, dtype=bool)),
+            ValueError,
+            "sources must be integer indices, not booleans",
+        ),
+        (
+            lambda m: exactgeo.distance(m, [[0, 1]]),
+            ValueError,
+            r"sources must be a single index or a 1-D array of indices",
+        ),
         (lambda m: exactgeo.distance(m, "0"), ValueError, "sources must be integer indices, not dtype <U1"),
-        (lambda m: exactgeo.distance(m, [0, exactgeo.SurfacePoint(0)]), ValueError, "sources mix vertex indices and SurfacePoints"),
+        (
+            lambda m: exactgeo.distance(m, [0, exactgeo.SurfacePoint(0)]),
+            ValueError,
+            "sources mix vertex indices and SurfacePoints",
+        ),
         (lambda m: exactgeo.SurfacePoint(-1), ValueError, "SurfacePoint: face -1 is not a face index"),
         (lambda m: exactgeo.SurfacePoint(0, (0.5, 0.5)), ValueError, "SurfacePoint: 2 barycentric coordinates, not 3"),
         (lambda m: exactgeo.SurfacePoints([0, 1], [[1, 0, 0]]), ValueError, "SurfacePoints: 2 faces but 1 rows"),

@@ -69,7 +69,9 @@ def test_farthest_point_sampling(sheet):
     assert sampling.radii[0] == np.inf and (np.diff(sampling.radii[1:]) <= 0).all()
     rows = exactgeo.distance_matrix(sheet, sampling.samples)
     np.testing.assert_allclose(sampling.distances, rows.min(axis=0), rtol=1e-14)
-    np.testing.assert_allclose(rows[sampling.nearest_sample, np.arange(sheet.vertex_count)], sampling.distances, rtol=1e-14)
+    np.testing.assert_allclose(
+        rows[sampling.nearest_sample, np.arange(sheet.vertex_count)], sampling.distances, rtol=1e-14
+    )
     # Each sample was the farthest vertex from the ones before it.
     for k in range(1, 10):
         assert rows[:k, sampling.samples[k]].min() == pytest.approx(sampling.radii[k], rel=1e-14)

@@ -14,7 +14,9 @@ import exactgeo
 
 def test_the_tests_use_the_installed_package():
     package = Path(exactgeo.__file__).resolve()
-    assert REPOSITORY / "python" not in package.parents, f"imported the source tree at {package}, not the installed package"
+    assert REPOSITORY / "python" not in package.parents, (
+        f"imported the source tree at {package}, not the installed package"
+    )
 
 
 def test_stubs_and_typed_marker_are_installed():
@@ -88,8 +90,11 @@ def test_load_reads_files_and_weld_merges_seams(tmp_path):
     assert exactgeo.Mesh.load(str(path)).face_count == len(faces)
 
     # The same square as two triangles that share no vertex index: a seam.
-    seam = write_obj(tmp_path / "seam.obj", np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]]),
-                     np.array([[0, 1, 2], [3, 4, 5]]))
+    seam = write_obj(
+        tmp_path / "seam.obj",
+        np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]]),
+        np.array([[0, 1, 2], [3, 4, 5]]),
+    )
     assert np.isinf(exactgeo.distance(exactgeo.Mesh.load(seam), 0)[4])
     welded = exactgeo.Mesh.load(seam, weld_duplicate_positions=True)
     assert welded.report["welded_vertices"] == 2
@@ -121,7 +126,11 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
         (SQUARE, [[0, 1, 2], [1, 3, -1]], "face 1 names vertex -1, but the mesh has 4 vertices"),
         (SQUARE, np.array([[0, 1, 2], [1, 3, 2**40]]), f"face 1 names vertex {2**40}, but the mesh has 4 vertices"),
         (SQUARE, np.array([[0, 1, -3]], dtype=np.int8), "face 0 names vertex -3, but the mesh has 4 vertices"),
-        (SQUARE, np.array([[0, 1, 2**33]], dtype=np.uint64), f"face 0 names vertex {2**33}, but the mesh has 4 vertices"),
+        (
+            SQUARE,
+            np.array([[0, 1, 2**33]], dtype=np.uint64),
+            f"face 0 names vertex {2**33}, but the mesh has 4 vertices",
+        ),
         (SQUARE, np.array([[0, 1, -1.0]]), "face 0 names vertex -1, but the mesh has 4 vertices"),
         # Conversions that would lose something.
         (SQUARE, [[0, 1, 2.5]], "faces must be whole numbers: face 0 names vertex 2.5"),
