@@ -146,3 +146,58 @@ def _cached_arrays(name, obj_path, cache, inputs, generate) -> BenchMesh:
     positions = np.load(vertices_path, mmap_mode="r")
     triangles = np.load(triangles_path, mmap_mode="r")
     return BenchMesh(name, obj_path, vertices_path, triangles_path, len(positions), len(triangles))
+
+
+# ------------------------------------------------------------------------------- anisotropic triangulations
+
+
+def anisotropy(positions: np.ndarray, triangles: np.ndarray) -> float:
+    """g(M) of Qin et al. 2016, Section 6.1 (after Xu et al. 2015): the mean over faces of P*H / (2*sqrt(3)*S),
+    with P the half-perimeter, H the longest edge and S the area. 1 for equilateral faces, growing with
+    elongation; infinite if any face has zero area."""
+    corners = positions[triangles]
+    edges = corners[:, [1, 2, 0]] - corners
+    lengths = np.linalg.norm(edges, axis=2)
+    areas = 0.5 * np.linalg.norm(np.cross(edges[:, 0], edges[:, 1]), axis=1)
+    with np.errstate(divide="ignore"):
+        quality = 0.5 * lengths.sum(axis=1) * lengths.max(axis=1) / (2 * np.sqrt(3) * areas)
+    return float(quality.mean())
+
+
+def ridged_height(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """A smooth height field over the unit square: ridges across y whose height varies slowly along x, and a
+    bump stretched along x. It curves mostly across y, so triangles stretched along x (as anisotropic
+    remeshing aligns them with the direction of least curvature) keep the shape at every stretch, while
+    geodesics still bend over the ridges and pass saddles."""
+    ridges = 0.1 * np.sin(3 * np.pi * y) * (0.7 + 0.3 * np.cos(np.pi * x))
+    bump = 0.15 * np.exp(-((x - 0.4) ** 2 / (2 * 0.25**2) + (y - 0.55) ** 2 / (2 * 0.08**2)))
+    return ridges + bump
+
+
+def anisotropic_height_field(face_count: int, stretch: float) -> tuple[np.ndarray, np.ndarray]:
+    """ridged_height over the unit square on a grid of about face_count / 2 cells, each `stretch` times
+    longer along x than along y and cut into two right triangles by its diagonal. Every row samples the same
+    x positions, so the surface has no folds between rows however thin the triangles get. Square cells
+    (stretch 1) give g(M) near 1.39; g grows about as stretch / sqrt(3). Vertex j * (columns + 1) + i sits at
+    (i / columns, j / rows), so vertex 0 is the corner (0, 0)."""
+    columns = max(1, round(np.sqrt(face_count / (2 * stretch))))
+    rows = max(1, round(face_count / (2 * columns)))
+    x, y = np.meshgrid(np.linspace(0.0, 1.0, columns + 1), np.linspace(0.0, 1.0, rows + 1))
+    positions = np.stack([x.ravel(), y.ravel(), ridged_height(x.ravel(), y.ravel())], axis=1)
+    corner = (np.arange(rows)[:, None] * (columns + 1) + np.arange(columns)[None, :]).ravel()
+    right, up = corner + 1, corner + columns + 1
+    lower = np.stack([corner, right, up], axis=1)  # counter-clockwise seen from +z
+    upper = np.stack([right, up + 1, up], axis=1)
+    return positions, np.concatenate([lower, upper]).astype(np.int32)
+
+
+def prepare_anisotropic_meshes(work_dir: Path, face_count: int, stretches: list[float]) -> list[BenchMesh]:
+    """One anisotropic_height_field per stretch, cached under work_dir/meshes like the other meshes."""
+    cache = work_dir / "meshes"
+    cache.mkdir(parents=True, exist_ok=True)
+    meshes = []
+    for stretch in stretches:
+        name = f"bumps-{face_count}-x{stretch:g}"
+        generate = lambda stretch=stretch: anisotropic_height_field(face_count, stretch)
+        meshes.append(_cached_arrays(name, cache / f"{name}.obj", cache, [Path(__file__)], generate))
+    return meshes
