@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: deps build python demo test bench bench-quick clean
+.PHONY: deps build python demo test bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -39,6 +39,12 @@ bench: build python
 bench-quick: build
 	python3 -m pip install -q -r bench/requirements.txt
 	python3 bench/run.py --quick --build-dir $(BUILD_DIR)
+
+# The paper's variant comparison, rule ablations and anisotropy study (see docs/paper-reproduction.md).
+paper: build
+	python3 -m pip install -q -r bench/requirements.txt
+	python3 bench/paper.py --build-dir $(BUILD_DIR)
+	python3 bench/anisotropy.py --build-dir $(BUILD_DIR)
 
 clean:
 	rm -rf $(BUILD_DIR)

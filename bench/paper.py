@@ -161,7 +161,8 @@ def runner_args(args, repeat: int, solvers: list[str] = ("exactgeo",)) -> argpar
     """run.py's settings for its runner and solvers: our caps and paths, one source (vertex 0), `repeat` runs
     each; `solvers` are the names run.make_solvers would make."""
     argv = ["--build-dir", str(args.build_dir), "--exactgeo", str(args.exactgeo), "--work-dir", str(args.work_dir), "--results-dir", str(args.results_dir), "--sources", "1",
-            "--repeat", str(repeat), "--timeout", str(args.timeout), "--name", args.name]
+            "--repeat", str(repeat), "--max-repeat-seconds", str(args.max_repeat_seconds), "--timeout",
+            str(args.timeout), "--name", args.name]
     if args.memory_limit_gb:
         argv += ["--memory-limit-gb", str(args.memory_limit_gb)]
     return run.parse_args(argv + ["--solvers", *solvers])
@@ -648,6 +649,8 @@ def parse_args(argv=None):
                         help="configurations to run, e.g. vtp ftp-no-rule1 (default: all; "
                         f"{kReference} is always run, as the reference)")
     parser.add_argument("--repeat", type=int, help="timed runs per configuration; median reported (default 3; quick 1)")
+    parser.add_argument("--max-repeat-seconds", type=float, default=60.0,
+                        help="a run longer than this is not repeated (default 60)")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per run (default 600)")
     parser.add_argument("--memory-limit-gb", type=float, help="address-space limit per run (default: run.py's)")
     parser.add_argument("--mesh-dir", type=Path, default=kRepoRoot.parent / "shared" / "meshes")
