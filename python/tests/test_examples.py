@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import re
+import sys
 
 import numpy as np
 import pytest
 from conftest import REPOSITORY
 
 
-def test_the_readme_example_runs():
+def test_the_readme_example_runs_with_the_required_dependencies_only(monkeypatch):
+    # scipy is optional (pip install .[sparse]): a fresh `pip install .` must run the example without it.
+    monkeypatch.setitem(sys.modules, "scipy", None)
+    monkeypatch.setitem(sys.modules, "scipy.sparse", None)
     readme = REPOSITORY / "README.md"
     if not readme.is_file():
         pytest.skip(f"{readme} is absent")

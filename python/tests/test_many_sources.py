@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 import scipy.sparse
@@ -86,3 +88,11 @@ def test_sampling_stops_once_the_reachable_vertices_are_taken():
     assert len(exactgeo.farthest_point_sampling(mesh, 0).samples) == 0
     with pytest.raises(ValueError, match="count must be at least 0, not -1"):
         exactgeo.farthest_point_sampling(mesh, -1)
+
+
+def test_without_scipy_a_cut_off_matrix_says_what_to_install(sheet, monkeypatch):
+    monkeypatch.setitem(sys.modules, "scipy", None)
+    monkeypatch.setitem(sys.modules, "scipy.sparse", None)
+    with pytest.raises(ImportError, match="pip install scipy"):
+        exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.3)
+    assert exactgeo.distance_matrix(sheet, SOURCES).shape == (len(SOURCES), sheet.vertex_count)
