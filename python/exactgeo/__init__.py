@@ -14,6 +14,7 @@ from ._core import version as __version__
 from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResult, GeodesicSolver, distance, path
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
+from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
 from ._surface_point import SurfacePoint, SurfacePoints, edge_point, point_position, vertex_point
 
 __all__ = [
@@ -31,7 +32,11 @@ __all__ = [
     "distance_matrix",
     "edge_point",
     "farthest_point_sampling",
+    "make_bumpy_torus",
+    "make_grid",
+    "make_icosphere",
     "path",
     "point_position",
+    "subdivide_midpoint",
     "vertex_point",
 ]

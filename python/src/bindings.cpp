@@ -164,6 +164,12 @@ nb::tuple path_arrays(const exactgeo::GeodesicPath& path, const exactgeo::Mesh& 
                         to_numpy(std::move(weights), {n, 3}), to_numpy(std::move(faces), {n}), path.length, source);
 }
 
+// A generated or subdivided mesh as (vertices n x 3, faces m x 3), the arrays handed over without a copy.
+std::tuple<NumpyArray<double>, NumpyArray<std::uint32_t>> soup_arrays(exactgeo::MeshSoup&& soup) {
+  const std::size_t vertices = soup.positions.size() / 3, faces = soup.triangles.size() / 3;
+  return {to_numpy(std::move(soup.positions), {vertices, 3}), to_numpy(std::move(soup.triangles), {faces, 3})};
+}
+
 // A solver bound to Python. It keeps its own handle on the mesh (a shared pointer inside exactgeo::Mesh), so
 // the Python mesh may be dropped first. The GIL is released while it runs, so two Python threads could call
 // the same solver at once: the mutex makes the second one wait.
@@ -333,6 +339,28 @@ NB_MODULE(_core, m) {
         return to_numpy(std::move(positions), {points.size(), 3});
       },
       "mesh"_a, "faces"_a.noconvert(), "barycentric"_a.noconvert());
+
+  m.def(
+      "make_icosphere", [](int subdivisions) { return soup_arrays(exactgeo::make_icosphere(subdivisions)); },
+      "subdivisions"_a);
+  m.def(
+      "make_bumpy_torus",
+      [](int major_segments, int minor_segments) {
+        return soup_arrays(exactgeo::make_bumpy_torus(major_segments, minor_segments));
+      },
+      "major_segments"_a, "minor_segments"_a);
+  m.def(
+      "make_grid",
+      [](int nx, int ny, double width, double height) { return soup_arrays(exactgeo::make_grid(nx, ny, width, height)); },
+      "nx"_a, "ny"_a, "width"_a, "height"_a);
+  m.def(
+      "subdivide_midpoint",
+      [](const PointArray& positions, const TriangleArray& triangles) {
+        exactgeo::MeshSoup soup{{positions.data(), positions.data() + positions.size()},
+                                {triangles.data(), triangles.data() + triangles.size()}};
+        return soup_arrays(exactgeo::subdivide_midpoint(soup));
+      },
+      "positions"_a.noconvert(), "triangles"_a.noconvert());
 
   nb::class_<Solver>(m, "GeodesicSolver")
       .def(nb::init<const exactgeo::Mesh&>(), "mesh"_a)
