@@ -47,16 +47,6 @@ kLibiglMaxFaces = 25_000
 kKirsanovInfinity = 1e99
 
 
-def grid(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """A flat n-by-n grid of unit squares, two triangles each: the small meshes that show call overhead."""
-    xs, ys = np.meshgrid(np.arange(n + 1.0), np.arange(n + 1.0))
-    vertices = np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)])
-    i, j = (index.ravel() for index in np.meshgrid(np.arange(n), np.arange(n)))
-    a = j * (n + 1) + i
-    faces = np.column_stack([a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]).reshape(-1, 3)
-    return vertices, faces.astype(np.int32)
-
-
 class Peer:
     """One package's way of answering: `build` returns its prepared structure (None if it has none), `query`
     the distances from one source given that structure (or the arrays)."""
@@ -319,14 +309,16 @@ def main() -> None:
 
     peers = make_peers()
     load_average = ", ".join(f"{value:.2f}" for value in os.getloadavg())
-    meshes = [(f"grid {n}x{n}", *grid(n)) for n in (1, 4, 16)]
+    # Flat grids of unit squares: the small meshes that show the per-call overhead.
+    meshes = [(f"grid {n}x{n}", *exactgeo.make_grid(n, n, n, n)) for n in (1, 4, 16)]
     for name in args.meshes:
         mesh = exactgeo.Mesh.load(args.mesh_dir / f"{name}.obj")
-        meshes.append((name, np.array(mesh.vertices), mesh.faces.astype(np.int32)))
+        meshes.append((name, mesh.vertices, mesh.faces))
     records = []
     for name, vertices, faces in meshes:
         print(f"{name}: {len(faces):,} faces", flush=True)
-        records.append(bench_mesh(name, vertices, faces, peers, args.repeat))
+        # gdist takes only float64 and int32, so those are the arrays every package gets.
+        records.append(bench_mesh(name, np.array(vertices), faces.astype(np.int32), peers, args.repeat))
     matrix_mesh = exactgeo.Mesh.load(args.mesh_dir / f"{args.matrix_mesh}.obj")
     print(f"matrix: {args.matrix_mesh}", flush=True)
     matrix = bench_matrix(

@@ -15,31 +15,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import exactgeo
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 BUILD_DIR = Path(os.environ.get("EXACTGEO_BUILD_DIR", REPOSITORY / "build"))
 CLI = BUILD_DIR / "cli" / "exactgeo"
 MESH_DIR = Path(os.environ.get("EXACTGEO_MESH_DIR", REPOSITORY.parent / "shared" / "meshes"))
 
 
-def grid(nx: int, ny: int, width: float, height: float) -> tuple[np.ndarray, np.ndarray]:
-    """Flat nx-by-ny grid of squares on [0, width] x [0, height] at z = 0, each square cut along alternating
-    diagonals. Vertex (i, j) is number j * (nx + 1) + i."""
-    xs, ys = np.meshgrid(np.linspace(0, width, nx + 1), np.linspace(0, height, ny + 1))
-    vertices = np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)])
-    i, j = (index.ravel() for index in np.meshgrid(np.arange(nx), np.arange(ny)))
-    a = j * (nx + 1) + i
-    b, c = a + 1, a + nx + 1
-    d = c + 1
-    even = ((i + j) % 2 == 0)[:, None]
-    first = np.where(even, np.column_stack([a, b, d]), np.column_stack([a, b, c]))
-    second = np.where(even, np.column_stack([a, d, c]), np.column_stack([b, d, c]))
-    return vertices, np.stack([first, second], axis=1).reshape(-1, 3).astype(np.int32)
-
-
 def bumpy_sheet(n: int, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
     """A curved open surface: the unit grid lifted by a smooth bump plus seeded noise, so that it has saddle
     vertices and pseudo-sources, with coordinates that need all 17 digits."""
-    vertices, faces = grid(n, n, 1.0, 1.0)
+    vertices, faces = exactgeo.make_grid(n, n, 1.0, 1.0)
     rng = np.random.default_rng(seed)
     x, y = vertices[:, 0], vertices[:, 1]
     vertices[:, 2] = 0.3 * np.sin(3 * x) * np.cos(2 * y) + 0.02 * rng.standard_normal(len(vertices))

@@ -7,7 +7,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from conftest import REPOSITORY, grid
+from conftest import REPOSITORY
 
 import exactgeo
 
@@ -38,5 +38,5 @@ def test_every_option_is_a_keyword_argument():
 
 
 def test_every_statistic_is_in_the_stats_dict():
-    stats = exactgeo.GeodesicSolver(exactgeo.Mesh(*grid(2, 2, 1.0, 1.0))).solve(0).stats
+    stats = exactgeo.GeodesicSolver(exactgeo.Mesh(*exactgeo.make_grid(2, 2, 1.0, 1.0))).solve(0).stats
     assert field_names("GeodesicStats") == set(stats)

@@ -9,14 +9,14 @@ import time
 
 import numpy as np
 import pytest
-from conftest import bumpy_sheet, grid, read_json, run_cli, write_obj
+from conftest import bumpy_sheet, read_json, run_cli, write_obj
 
 import exactgeo
 
 
 @pytest.fixture(scope="module")
 def flat():
-    vertices, faces = grid(8, 5, 2.0, 1.25)
+    vertices, faces = exactgeo.make_grid(8, 5, 2.0, 1.25)
     return exactgeo.Mesh(vertices, faces)
 
 
@@ -300,7 +300,7 @@ def test_a_solver_is_reusable_and_its_results_stay_valid(sheet):
 
 
 def test_a_solver_keeps_its_mesh_alive():
-    solver = exactgeo.GeodesicSolver(exactgeo.Mesh(*grid(3, 3, 1.0, 1.0)))
+    solver = exactgeo.GeodesicSolver(exactgeo.Mesh(*exactgeo.make_grid(3, 3, 1.0, 1.0)))
     gc.collect()
     assert solver.solve(0).distances[15] == pytest.approx(np.sqrt(2))
     assert solver.mesh.vertex_count == 16

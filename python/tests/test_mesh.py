@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import REPOSITORY, grid, run_cli, shared_mesh, write_obj
+from conftest import REPOSITORY, run_cli, shared_mesh, write_obj
 
 import exactgeo
 
@@ -27,7 +27,7 @@ def test_stubs_and_typed_marker_are_installed():
 
 
 def test_arrays_of_every_dtype_and_order_give_the_same_mesh():
-    vertices, faces = grid(4, 4, 2.0, 1.0)  # coordinates are multiples of 1/4
+    vertices, faces = exactgeo.make_grid(4, 4, 2.0, 1.0)  # coordinates are multiples of 1/4
     reference = exactgeo.distance(exactgeo.Mesh(vertices, faces), 0)
     variants = [
         (vertices.astype(np.float32), faces),
@@ -48,7 +48,7 @@ def test_arrays_of_every_dtype_and_order_give_the_same_mesh():
 
 
 def test_views_are_the_mesh_storage_read_only():
-    vertices, faces = grid(2, 2, 1.0, 1.0)
+    vertices, faces = exactgeo.make_grid(2, 2, 1.0, 1.0)
     mesh = exactgeo.Mesh(vertices.astype(np.float32), faces.astype(np.int64))
     assert mesh.vertex_count == 9 and mesh.face_count == 8
     assert mesh.vertices.dtype == np.float64 and mesh.vertices.shape == (9, 3)
@@ -82,7 +82,7 @@ def test_report_matches_the_command_line(cli):
 
 
 def test_load_reads_files_and_weld_merges_seams(tmp_path):
-    vertices, faces = grid(3, 3, 1.0, 1.0)
+    vertices, faces = exactgeo.make_grid(3, 3, 1.0, 1.0)
     path = write_obj(tmp_path / "grid.obj", vertices, faces)
     mesh = exactgeo.Mesh.load(path)
     np.testing.assert_array_equal(mesh.vertices, vertices)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import bumpy_sheet, grid, read_json, run_cli, write_obj
+from conftest import bumpy_sheet, read_json, run_cli, write_obj
 
 import exactgeo
 
@@ -23,7 +23,7 @@ def rebuilt_points(mesh: exactgeo.Mesh, path: exactgeo.GeodesicPath) -> np.ndarr
 
 
 def test_on_a_flat_grid_the_path_is_the_straight_segment():
-    mesh = exactgeo.Mesh(*grid(6, 4, 3.0, 2.0))
+    mesh = exactgeo.Mesh(*exactgeo.make_grid(6, 4, 3.0, 2.0))
     start, end = mesh.vertices[0], mesh.vertices[34]
     path = exactgeo.path(mesh, 0, 34)
     assert path.length == pytest.approx(np.linalg.norm(end - start), rel=1e-14)
