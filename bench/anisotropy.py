@@ -215,7 +215,7 @@ def write_plot(results_dir: Path, report: dict) -> Path:
     for axes in (time_axes, relative_axes, count_axes, phase_axes):
         axes.set_xscale("log")
         axes.set_xlabel("anisotropy g(M)")
-        axes.set_xticks(g, [f"{value:.3g}" for value in g])
+        axes.set_xticks(g, [f"{value:.2g}" for value in g], rotation=45)
         axes.minorticks_off()
         axes.grid(True, alpha=0.3)
         axes.legend(fontsize="small")

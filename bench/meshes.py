@@ -197,7 +197,7 @@ def prepare_anisotropic_meshes(work_dir: Path, face_count: int, stretches: list[
     cache.mkdir(parents=True, exist_ok=True)
     meshes = []
     for stretch in stretches:
-        name = f"bumps-{face_count}-x{stretch:g}"
+        name = f"ridged-{face_count}-x{stretch:g}"
         generate = lambda stretch=stretch: anisotropic_height_field(face_count, stretch)
         meshes.append(_cached_arrays(name, cache / f"{name}.obj", cache, [Path(__file__)], generate))
     return meshes
