@@ -186,6 +186,10 @@ def bench_matrix(name: str, vertices: np.ndarray, faces: np.ndarray, peers: list
     }
 
 
+def load_average() -> str:
+    return ", ".join(f"{value:.2f}" for value in os.getloadavg())
+
+
 def ratio(value: float, ours: float) -> str:
     return f"{value / ours:.3g}x"
 
@@ -205,7 +209,7 @@ def write_markdown(path: Path, report: dict) -> None:
         "",
         f"Run {report['date']} by `bench/python_level.py` (see bench/README.md): one process, the same numpy arrays "
         f"(V float64, F int32) for every package, median of {report['settings']['repeat']} batches. "
-        f"Load average at the start: {report['load_average']}.",
+        f"Load average at the start: {report['load_average']}; at the end: {report['load_average_at_end']}.",
         "",
         "Each cell is the package's time divided by exactgeo's (above 1: exactgeo is faster). "
         "† gdist and libigl have no prepared form: they rebuild the mesh in every call.",
@@ -308,7 +312,7 @@ def main() -> None:
         args.meshes, args.repeat, args.name = ["woody", "spot"], 3, args.name + "-quick"
 
     peers = make_peers()
-    load_average = ", ".join(f"{value:.2f}" for value in os.getloadavg())
+    load_at_start = load_average()
     # Flat grids of unit squares: the small meshes that show the per-call overhead.
     meshes = [(f"grid {n}x{n}", *exactgeo.make_grid(n, n, n, n)) for n in (1, 4, 16)]
     for name in args.meshes:
@@ -328,7 +332,9 @@ def main() -> None:
     report = {
         "date": datetime.datetime.now().isoformat(timespec="seconds"),
         "settings": {"repeat": args.repeat, "batch_seconds": kBatchSeconds, "libigl_max_faces": kLibiglMaxFaces},
-        "load_average": load_average,
+        "load_average": load_at_start,
+        # Another process running meanwhile shows here, not in the load at the start.
+        "load_average_at_end": load_average(),
         "machine": machine_info(),
         "python": ".".join(map(str, sys.version_info[:3])),
         "versions": {p.package: importlib.metadata.version(p.package) for p in peers} | {"numpy": np.__version__},
