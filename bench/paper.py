@@ -157,7 +157,7 @@ def missing_cli_options(exactgeo: Path) -> list[str]:
 # -------------------------------------------------------------------------------------------------- runs
 
 
-def runner_args(args, repeat: int, solvers: list[str] = ("exactgeo",)) -> argparse.Namespace:
+def runner_args(args, repeat: int, solvers: tuple[str, ...] | list[str] = ("exactgeo",)) -> argparse.Namespace:
     """run.py's settings for its runner and solvers: our caps and paths, one source (vertex 0), `repeat` runs
     each; `solvers` are the names run.make_solvers would make."""
     argv = ["--build-dir", str(args.build_dir), "--exactgeo", str(args.exactgeo), "--work-dir", str(args.work_dir), "--results-dir", str(args.results_dir), "--sources", "1",
