@@ -982,7 +982,7 @@ int main(int argc, char** argv) {
                              "Ablation: no pairwise pruning of neighbouring windows (Rules 2 and 3)");
   distance_command->add_flag("--timers", distance.timers,
                              "Split the propagation time into window propagation, pruning and queue (in --stats; "
-                             "the clock reads cost a few percent)");
+                             "the clock reads slow the run down by up to 60%)");
   distance_command->add_flag("--quiet", distance.quiet, "No progress line on stderr");
   distance_command->add_flag("--weld", distance.weld, "Merge vertices with identical positions");
   distance_command->footer(kExitCodesHelp);

@@ -51,7 +51,8 @@ struct GeodesicOptions {
   // there, so the work shrinks with the radius. Must not be negative or NaN.
   double max_distance = std::numeric_limits<double>::infinity();
   // Splits the run's time into window propagation, pruning and queue management (GeodesicStats). The
-  // clock reads cost a few percent, so this is off unless asked for.
+  // clock reads around every list crossing slow the run down (by up to 60% measured), so this is
+  // off unless asked for.
   bool collect_timings = false;
 };
 
