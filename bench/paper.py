@@ -30,7 +30,6 @@ from pathlib import Path
 import numpy as np
 
 import run
-from meshes import prepare_meshes
 
 kBenchDir = Path(__file__).resolve().parent
 kRepoRoot = kBenchDir.parent
@@ -695,13 +694,7 @@ def main(argv=None) -> int:
     args = parse_args(argv)
     if missing := missing_cli_options(args.exactgeo):
         sys.exit(f"paper.py: {args.exactgeo} lacks {', '.join(missing)}: rebuild it (cmake --build build)")
-    subdivided = {name: spec for name, spec in kPaperSubdivided.items() if not args.meshes or name in args.meshes}
-    meshes = prepare_meshes(args.mesh_dir, args.work_dir, subdivided)
-    if args.meshes:
-        unknown = set(args.meshes) - {mesh.name for mesh in meshes}
-        if unknown:
-            sys.exit(f"paper.py: no mesh named {', '.join(sorted(unknown))} in {args.mesh_dir}")
-        meshes = [mesh for mesh in meshes if mesh.name in args.meshes]
+    meshes = run.select_meshes(args, kPaperSubdivided, "paper.py")
 
     solvers = [variant_solver(c, args.exactgeo) for c in args.configurations]
     timer_solvers = [variant_solver(c, args.exactgeo, timers=True) for c in args.configurations

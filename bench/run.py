@@ -838,6 +838,18 @@ def parse_args(argv=None):
     return args
 
 
+def select_meshes(args, subdivided_specs: dict, script: str) -> list:
+    """The shared meshes and the subdivisions in subdivided_specs, prepared, limited to args.meshes if given."""
+    subdivided = {name: spec for name, spec in subdivided_specs.items() if not args.meshes or name in args.meshes}
+    meshes = prepare_meshes(args.mesh_dir, args.work_dir, subdivided)
+    if not args.meshes:
+        return meshes
+    unknown = set(args.meshes) - {mesh.name for mesh in meshes}
+    if unknown:
+        sys.exit(f"{script}: no mesh named {', '.join(sorted(unknown))} in {args.mesh_dir}")
+    return [mesh for mesh in meshes if mesh.name in args.meshes]
+
+
 def main(argv=None) -> None:
     args = parse_args(argv)
     solvers = make_solvers(args)
@@ -845,14 +857,8 @@ def main(argv=None) -> None:
         sys.exit("run.py: matplotlib is needed for the plots (pip install -r bench/requirements.txt)")
     if not args.mesh_dir.is_dir():
         sys.exit(f"run.py: mesh directory {args.mesh_dir} not found (--mesh-dir)")
-    subdivided = {name: spec for name, spec in kSubdivided.items() if not args.meshes or name in args.meshes}
     print(f"preparing meshes in {args.work_dir / 'meshes'}", flush=True)
-    meshes = prepare_meshes(args.mesh_dir, args.work_dir, subdivided)
-    if args.meshes:
-        unknown = set(args.meshes) - {mesh.name for mesh in meshes}
-        if unknown:
-            sys.exit(f"run.py: no mesh named {', '.join(sorted(unknown))} in {args.mesh_dir}")
-        meshes = [mesh for mesh in meshes if mesh.name in args.meshes]
+    meshes = select_meshes(args, kSubdivided, "run.py")
 
     runs_root = args.work_dir / "runs" / args.name
     shutil.rmtree(runs_root, ignore_errors=True)
