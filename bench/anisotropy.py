@@ -220,11 +220,7 @@ def write_plot(results_dir: Path, report: dict) -> Path:
         axes.grid(True, alpha=0.3)
         axes.legend(fontsize="small")
     figure.suptitle(f"ridged square, ~{report['settings']['faces']:,} faces, stretched triangles, source vertex 0")
-    figure.tight_layout()
-    path = results_dir / f"{report['name']}.png"
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
-    return path
+    return run.save_figure(figure, results_dir / f"{report['name']}.png")
 
 
 def main(argv=None) -> int:

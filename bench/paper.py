@@ -620,11 +620,7 @@ def write_plots(results_dir: Path, report: dict) -> list[Path]:
     axes.set_ylabel("saving (%)")
     axes.set_title(f"{kAlgorithmLabels[kReference]}: what each rule saves")
     axes.legend(fontsize="small")
-    figure.tight_layout()
-    path = results_dir / f"{report['name']}-ablation.png"
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
-    plots.append(path)
+    plots.append(run.save_figure(figure, results_dir / f"{report['name']}-ablation.png"))
 
     # Figure 8: stacked phase times per variant on the large meshes.
     figure, panels = plt.subplots(1, len(shown), figsize=(5.5 * len(shown), 4.5), squeeze=False)
@@ -642,11 +638,7 @@ def write_plots(results_dir: Path, report: dict) -> list[Path]:
         axes.set_ylabel("seconds (run with timers on)")
         axes.set_title(f"{mesh['name']} ({mesh['faces']:,} faces)")
         axes.legend(fontsize="small")
-    figure.tight_layout()
-    path = results_dir / f"{report['name']}-phases.png"
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
-    plots.append(path)
+    plots.append(run.save_figure(figure, results_dir / f"{report['name']}-phases.png"))
     return plots
 
 

@@ -766,11 +766,17 @@ def write_plots(results_dir: Path, report: dict) -> list[Path]:
         axes.grid(True, which="both", alpha=0.3)
         axes.legend()
         path = results_dir / f"{report['name']}-{'time' if key == 'propagation_seconds' else 'memory'}.png"
-        figure.tight_layout()
-        figure.savefig(path, dpi=110)
-        plt.close(figure)
-        plots.append(path)
+        plots.append(save_figure(figure, path, dpi=110))
     return plots
+
+
+def save_figure(figure, path: Path, dpi: int = 100) -> Path:
+    """Lays out, writes and closes a matplotlib figure; returns the path."""
+    import matplotlib.pyplot as plt
+    figure.tight_layout()
+    figure.savefig(path, dpi=dpi)
+    plt.close(figure)
+    return path
 
 
 # ------------------------------------------------------------------------------------------------- main
