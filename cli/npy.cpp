@@ -6,7 +6,7 @@
 
 #include "exactgeo/error.hpp"
 
-namespace exactgeo_cli {
+namespace exactgeo::cli {
 namespace {
 
 template <typename T, typename Bits>
@@ -87,4 +87,4 @@ void write_npz(const std::string& path, std::span<const NpzMember> members) {
   }
 }
 
-}  // namespace exactgeo_cli
+}  // namespace exactgeo::cli

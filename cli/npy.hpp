@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace exactgeo_cli {
+namespace exactgeo::cli {
 
 // The .npy preamble and header for a C-ordered array: `descr` is NumPy's dtype string ('<f8', '<i4', '|S3').
 // A zero-dimensional array has an empty shape.
@@ -32,4 +32,4 @@ struct NpzMember {
 // naming the file if it cannot be written.
 void write_npz(const std::string& path, std::span<const NpzMember> members);
 
-}  // namespace exactgeo_cli
+}  // namespace exactgeo::cli

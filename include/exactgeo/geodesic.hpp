@@ -56,28 +56,59 @@ struct GeodesicOptions {
   bool collect_timings = false;
 };
 
-// Counts as the paper defines them (Section 6.2): a propagation is prime if it crosses a triangle that
-// joined the traversed area in the current iteration, secondary if it crosses one inside the area. A
-// merge is a list arriving at a wavefront edge that already holds windows: prime on a new wavefront edge
-// (Rule 3's PrimeMerge), secondary on an older one (SecondMerge).
+// What a run did: the counts as the paper defines them (Section 6.2) and the time. A propagation is prime if
+// it crosses a triangle that joined the traversed area in the current iteration, secondary if it crosses one
+// inside the area. A merge is a list arriving at a wavefront edge that already holds windows: prime on a new
+// wavefront edge (Rule 3's PrimeMerge), secondary on an older one (SecondMerge). Each field's meaning is in
+// for_each_stats_field below.
 struct GeodesicStats {
-  std::uint64_t window_propagations = 0;     // one window across one triangle (a split counts twice)
-  std::uint64_t prime_propagations = 0;      // of which inside the newly added triangles
-  std::uint64_t secondary_propagations = 0;  // of which inside the traversed area
+  std::uint64_t window_propagations = 0;
+  std::uint64_t prime_propagations = 0;
+  std::uint64_t secondary_propagations = 0;
   std::uint64_t prime_merges = 0;
   std::uint64_t secondary_merges = 0;
-  std::uint64_t peak_windows = 0;            // most windows alive at once
-  std::uint64_t peak_window_bytes = 0;       // bytes of window storage at its largest (live and reusable)
-  std::uint64_t vertex_pops = 0;             // wavefront vertices taken from the queue (vertex-sorted)
-  std::uint64_t face_pops = 0;               // wavefront triangles taken from the queue (face-sorted)
-  std::uint64_t pseudo_source_emissions = 0;  // saddle or boundary vertices that (re-)emitted windows
-  double propagation_seconds = 0.0;          // wall time of the propagation
-  // With GeodesicOptions::collect_timings, parts of propagation_seconds (0 without): crossing window lists
-  // over triangles, pairwise pruning (Rules 2 and 3), and the wavefront priority queue.
+  std::uint64_t peak_windows = 0;
+  std::uint64_t peak_window_bytes = 0;
+  std::uint64_t vertex_pops = 0;
+  std::uint64_t face_pops = 0;
+  std::uint64_t pseudo_source_emissions = 0;
+  double propagation_seconds = 0.0;
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
   double queue_seconds = 0.0;
 };
+
+// What a field of GeodesicStats holds, for code that prints it.
+enum class StatsFieldKind {
+  count,
+  seconds,
+  phase_seconds,  // a part of propagation_seconds, measured only with GeodesicOptions::collect_timings
+};
+
+// Every field of GeodesicStats in declaration order, with what it means: calls
+// visit(name, member pointer, kind, description) once per field. The command line's JSON and summary and
+// the Python class are generated from this list, so a new field reaches them all by being added here.
+template <class Visit>
+constexpr void for_each_stats_field(Visit&& visit) {
+  using S = GeodesicStats;
+  constexpr StatsFieldKind count = StatsFieldKind::count, seconds = StatsFieldKind::seconds,
+                           phase = StatsFieldKind::phase_seconds;
+  visit("window_propagations", &S::window_propagations, count, "windows propagated across a triangle (a split counts twice)");
+  visit("prime_propagations", &S::prime_propagations, count, "of which across triangles new to the traversed area");
+  visit("secondary_propagations", &S::secondary_propagations, count, "of which across triangles inside the traversed area");
+  visit("prime_merges", &S::prime_merges, count, "window lists merged on a new wavefront edge (Rule 3)");
+  visit("secondary_merges", &S::secondary_merges, count, "window lists merged on an older wavefront edge");
+  visit("peak_windows", &S::peak_windows, count, "most windows alive at once");
+  visit("peak_window_bytes", &S::peak_window_bytes, count, "bytes of window storage at its largest (live and reusable)");
+  visit("vertex_pops", &S::vertex_pops, count, "wavefront vertices taken from the queue (vertex-sorted variants)");
+  visit("face_pops", &S::face_pops, count, "wavefront triangles taken from the queue (face-sorted variants)");
+  visit("pseudo_source_emissions", &S::pseudo_source_emissions, count, "saddle or boundary vertices that (re-)emitted windows");
+  visit("propagation_seconds", &S::propagation_seconds, seconds, "wall time of the propagation");
+  visit("window_propagation_seconds", &S::window_propagation_seconds, phase,
+        "crossing window lists over triangles (0 unless collect_timings)");
+  visit("pruning_seconds", &S::pruning_seconds, phase, "pairwise pruning, Rules 2 and 3 (0 unless collect_timings)");
+  visit("queue_seconds", &S::queue_seconds, phase, "the wavefront priority queue (0 unless collect_timings)");
+}
 
 inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();
 

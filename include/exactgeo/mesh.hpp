@@ -33,24 +33,48 @@ struct MeshOptions {
   bool weld_duplicate_positions = false;  // merge vertices whose three coordinates are identical
 };
 
-// What validation found. Counts refer to the input unless said otherwise.
+// What validation found. Counts refer to the input unless said otherwise; each field's meaning is in
+// for_each_report_field below.
 struct MeshReport {
-  std::size_t vertices = 0;                     // input vertices, used or not
-  std::size_t faces = 0;                        // input triangles
-  std::size_t faces_used = 0;                   // triangles kept (input minus dropped)
-  std::size_t faces_repeating_a_vertex = 0;     // dropped: a triangle naming one vertex twice
-  std::size_t degenerate_faces = 0;             // kept: zero area (collinear or coincident corners)
-  std::size_t zero_length_edges = 0;            // kept: edges whose two end positions coincide
-  std::size_t unreferenced_vertices = 0;        // used by no kept face; distance +inf
-  std::size_t duplicate_positions = 0;          // vertices whose position repeats an earlier vertex
-  std::size_t welded_vertices = 0;              // vertices merged into an earlier one by welding
-  std::size_t boundary_edges = 0;               // edges with one face
-  std::size_t non_manifold_edges = 0;           // edges with three or more faces (cut)
-  std::size_t non_manifold_vertices = 0;        // vertices split into several surface vertices
-  std::size_t surface_vertices = 0;             // vertices of the manifold surface the engine runs on
-  std::size_t components = 0;                   // connected pieces of that surface
-  std::size_t saddle_vertices = 0;              // interior vertices with angle sum above 2*pi
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  std::size_t faces_used = 0;
+  std::size_t faces_repeating_a_vertex = 0;
+  std::size_t degenerate_faces = 0;
+  std::size_t zero_length_edges = 0;
+  std::size_t unreferenced_vertices = 0;
+  std::size_t duplicate_positions = 0;
+  std::size_t welded_vertices = 0;
+  std::size_t boundary_edges = 0;
+  std::size_t non_manifold_edges = 0;
+  std::size_t non_manifold_vertices = 0;
+  std::size_t surface_vertices = 0;
+  std::size_t components = 0;
+  std::size_t saddle_vertices = 0;
 };
+
+// Every field of MeshReport in declaration order, with what it means: calls
+// visit(name, member pointer, description) once per field. `exactgeo info` and the Python class are
+// generated from this list, so a new field reaches both by being added here.
+template <class Visit>
+constexpr void for_each_report_field(Visit&& visit) {
+  using R = MeshReport;
+  visit("vertices", &R::vertices, "input vertices, used or not");
+  visit("faces", &R::faces, "input triangles");
+  visit("faces_used", &R::faces_used, "triangles kept (input minus dropped)");
+  visit("faces_repeating_a_vertex", &R::faces_repeating_a_vertex, "dropped: a triangle naming one vertex twice");
+  visit("degenerate_faces", &R::degenerate_faces, "kept: zero area (collinear or coincident corners)");
+  visit("zero_length_edges", &R::zero_length_edges, "kept: edges whose two end positions coincide");
+  visit("unreferenced_vertices", &R::unreferenced_vertices, "used by no kept face; distance +inf");
+  visit("duplicate_positions", &R::duplicate_positions, "vertices whose position repeats an earlier vertex");
+  visit("welded_vertices", &R::welded_vertices, "vertices merged into an earlier one by welding");
+  visit("boundary_edges", &R::boundary_edges, "edges with one face");
+  visit("non_manifold_edges", &R::non_manifold_edges, "edges with three or more faces (cut)");
+  visit("non_manifold_vertices", &R::non_manifold_vertices, "vertices split into several surface vertices");
+  visit("surface_vertices", &R::surface_vertices, "vertices of the manifold surface the engine runs on");
+  visit("components", &R::components, "connected pieces of that surface");
+  visit("saddle_vertices", &R::saddle_vertices, "interior vertices with angle sum above 2*pi");
+}
 
 class Mesh {
  public:

@@ -46,7 +46,7 @@ class GeodesicResult:
     nearest_source: np.ndarray  # (vertex_count,) int64: index into the sources, -1 where distances is inf
     target_distances: np.ndarray  # (targets,) float64, likewise per target
     target_nearest_source: np.ndarray  # (targets,) int64
-    stats: dict[str, float]  # the engine's counters and its time (C++: exactgeo::GeodesicStats)
+    stats: _core.GeodesicStats  # the engine's counters and its time, as attributes; .to_dict() for a dict
 
 
 @dataclasses.dataclass(frozen=True)

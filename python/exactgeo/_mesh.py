@@ -61,9 +61,10 @@ class Mesh:
         return self._core.triangles
 
     @property
-    def report(self) -> dict[str, int]:
+    def report(self) -> _core.MeshReport:
         """What validation found: counts of dropped and degenerate faces, boundary and non-manifold edges,
-        split vertices, components, saddle vertices (the fields of C++ exactgeo::MeshReport)."""
+        split vertices, components, saddle vertices, as attributes (C++: exactgeo::MeshReport);
+        .to_dict() gives them as a dict."""
         return self._core.report
 
     def __repr__(self) -> str:

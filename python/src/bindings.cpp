@@ -61,43 +61,50 @@ std::vector<std::int64_t> signed_indices(std::span<const std::uint32_t> indices)
   return result;
 }
 
-nb::dict stats_dict(const exactgeo::GeodesicStats& stats) {
-  nb::dict dict;
-  dict["window_propagations"] = stats.window_propagations;
-  dict["prime_propagations"] = stats.prime_propagations;
-  dict["secondary_propagations"] = stats.secondary_propagations;
-  dict["prime_merges"] = stats.prime_merges;
-  dict["secondary_merges"] = stats.secondary_merges;
-  dict["peak_windows"] = stats.peak_windows;
-  dict["peak_window_bytes"] = stats.peak_window_bytes;
-  dict["vertex_pops"] = stats.vertex_pops;
-  dict["face_pops"] = stats.face_pops;
-  dict["pseudo_source_emissions"] = stats.pseudo_source_emissions;
-  dict["propagation_seconds"] = stats.propagation_seconds;
-  dict["window_propagation_seconds"] = stats.window_propagation_seconds;
-  dict["pruning_seconds"] = stats.pruning_seconds;
-  dict["queue_seconds"] = stats.queue_seconds;
-  return dict;
-}
-
-nb::dict report_dict(const exactgeo::MeshReport& report) {
-  nb::dict dict;
-  dict["vertices"] = report.vertices;
-  dict["faces"] = report.faces;
-  dict["faces_used"] = report.faces_used;
-  dict["faces_repeating_a_vertex"] = report.faces_repeating_a_vertex;
-  dict["degenerate_faces"] = report.degenerate_faces;
-  dict["zero_length_edges"] = report.zero_length_edges;
-  dict["unreferenced_vertices"] = report.unreferenced_vertices;
-  dict["duplicate_positions"] = report.duplicate_positions;
-  dict["welded_vertices"] = report.welded_vertices;
-  dict["boundary_edges"] = report.boundary_edges;
-  dict["non_manifold_edges"] = report.non_manifold_edges;
-  dict["non_manifold_vertices"] = report.non_manifold_vertices;
-  dict["surface_vertices"] = report.surface_vertices;
-  dict["components"] = report.components;
-  dict["saddle_vertices"] = report.saddle_vertices;
-  return dict;
+// A result struct as a Python class generated from the library's field table (for_each_stats_field,
+// for_each_report_field): one attribute per field with its description as docstring, to_dict(), equality,
+// repr and pickling. A field added to the table reaches Python without a change here.
+template <class Struct, class ForEachField>
+void bind_fields(nb::class_<Struct>& cls, ForEachField for_each_field) {
+  // The visitors pass (name, member, [kind,] description): the description is the last argument.
+  for_each_field([&](const char* name, auto member, const auto&... rest) {
+    const char* description = std::get<sizeof...(rest) - 1>(std::tuple(rest...));
+    cls.def_rw(name, member, description);
+  });
+  cls.def(nb::init<>());
+  cls.def("to_dict", [for_each_field](const Struct& self) {
+    nb::dict dict;
+    for_each_field([&](const char* name, auto member, const auto&...) { dict[name] = self.*member; });
+    return dict;
+  }, "The fields as a dict, in declaration order.");
+  cls.def("__eq__", [for_each_field](const Struct& self, const Struct& other) {
+    bool equal = true;
+    for_each_field([&](const char*, auto member, const auto&...) { equal = equal && self.*member == other.*member; });
+    return equal;
+  });
+  cls.def("__repr__", [for_each_field](const Struct& self) {
+    // Named as the package exports it: exactgeo.GeodesicStats, not exactgeo._core.GeodesicStats.
+    std::string text = "exactgeo." + nb::cast<std::string>(nb::type<Struct>().attr("__name__")) + "(";
+    bool first = true;
+    for_each_field([&](const char* name, auto member, const auto&...) {
+      text += std::string(first ? "" : ", ") + name + "=" + nb::repr(nb::cast(self.*member)).c_str();
+      first = false;
+    });
+    return text + ")";
+  });
+  // Pickled as the tuple of the fields, in declaration order.
+  cls.def("__getstate__", [for_each_field](const Struct& self) {
+    nb::list state;
+    for_each_field([&](const char*, auto member, const auto&...) { state.append(self.*member); });
+    return nb::tuple(state);
+  });
+  cls.def("__setstate__", [for_each_field](Struct& self, const nb::tuple& state) {
+    new (&self) Struct{};
+    std::size_t i = 0;
+    for_each_field([&](const char*, auto member, const auto&...) {
+      self.*member = nb::cast<std::remove_reference_t<decltype(self.*member)>>(state[i++]);
+    });
+  });
 }
 
 // Surface points travel as two arrays: faces (n) and barycentric coordinates (n x 3). The package pairs
@@ -199,7 +206,7 @@ nb::tuple solve(Solver& self, const auto& run) {
   const std::size_t vertices = distances.size(), targets = target_distances.size();
   return nb::make_tuple(to_numpy(std::move(distances), {vertices}), to_numpy(std::move(nearest), {vertices}),
                         to_numpy(std::move(target_distances), {targets}),
-                        to_numpy(std::move(target_nearest), {targets}), stats_dict(stats));
+                        to_numpy(std::move(target_nearest), {targets}), nb::cast(stats));
 }
 
 nb::tuple trace(Solver& self, const auto& query) {
@@ -244,6 +251,12 @@ NB_MODULE(_core, m) {
     for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames) names.emplace_back(name);
     return names;
   });
+
+  nb::class_<exactgeo::GeodesicStats> stats(m, "GeodesicStats",
+                                            "What a run did: the paper's counts (Section 6.2) and the time.");
+  bind_fields(stats, [](auto&& visit) { exactgeo::for_each_stats_field(visit); });
+  nb::class_<exactgeo::MeshReport> report(m, "MeshReport", "What validation found in a mesh.");
+  bind_fields(report, [](auto&& visit) { exactgeo::for_each_report_field(visit); });
 
   const exactgeo::GeodesicOptions defaults;
   nb::class_<exactgeo::GeodesicOptions>(m, "GeodesicOptions")
@@ -292,7 +305,7 @@ NB_MODULE(_core, m) {
                                                                                  {mesh.face_count(), 3});
           },
           nb::rv_policy::reference_internal)
-      .def_prop_ro("report", [](const exactgeo::Mesh& mesh) { return report_dict(mesh.report()); });
+      .def_prop_ro("report", [](const exactgeo::Mesh& mesh) -> exactgeo::MeshReport { return mesh.report(); });
 
   m.def(
       "load_mesh",

@@ -4,6 +4,7 @@ unreachable vertices, options, statistics, the reusable solver and the GIL."""
 from __future__ import annotations
 
 import gc
+import pickle
 import threading
 import time
 
@@ -94,7 +95,7 @@ def test_values_match_the_command_line(cli, tmp_path, sheet):
     np.testing.assert_allclose(result.target_distances, targets["distance"], rtol=1e-13, atol=0)
 
     stats = read_json(tmp_path / "s.json")
-    for name, value in result.stats.items():
+    for name, value in result.stats.to_dict().items():
         if not name.endswith("_seconds"):
             assert value == stats[name], name
 
@@ -121,7 +122,7 @@ def test_max_distance_cuts_off_and_costs_less(sheet):
     inside = full.distances <= 0.4
     np.testing.assert_array_equal(cut.distances[inside], full.distances[inside])
     assert np.isinf(cut.distances[~inside]).all() and (~inside).any()
-    assert cut.stats["window_propagations"] < full.stats["window_propagations"]
+    assert cut.stats.window_propagations < full.stats.window_propagations
     assert np.isinf(exactgeo.distance(sheet, 0, max_distance=0.0)[1:]).all()
 
 
@@ -130,7 +131,7 @@ def test_targets_return_their_distances_and_stop_early(sheet):
     near = np.flatnonzero((full.distances > 0) & (full.distances < 0.2))[:3]
     result = exactgeo.GeodesicSolver(sheet).solve(0, targets=near)
     np.testing.assert_allclose(result.target_distances, full.distances[near], rtol=1e-14)
-    assert result.stats["vertex_pops"] < full.stats["vertex_pops"]
+    assert result.stats.vertex_pops < full.stats.vertex_pops
     np.testing.assert_allclose(exactgeo.distance(sheet, 0, targets=near), full.distances[near], rtol=1e-14)
     distances, nearest = exactgeo.distance(sheet, [0, 5], targets=near, return_nearest=True)
     assert distances.shape == nearest.shape == near.shape
@@ -276,16 +277,33 @@ def test_every_algorithm_and_ablation_gives_the_same_distances(sheet):
                 np.testing.assert_allclose(found, expected, rtol=1e-12, err_msg=f"{algorithm} {rule1} {rule23}")
 
 
-def test_stats_is_a_dict_of_the_engine_counters(sheet):
+def test_stats_are_typed_documented_attributes_of_the_engine_counters(sheet):
     stats = exactgeo.GeodesicSolver(sheet).solve(0).stats
-    assert isinstance(stats, dict)
-    assert stats["window_propagations"] > 0 and stats["vertex_pops"] == sheet.vertex_count
-    assert stats["peak_windows"] > 0 and stats["peak_window_bytes"] > 0
-    assert stats["propagation_seconds"] >= 0
-    assert all(isinstance(value, (int, float)) for value in stats.values())
-    assert stats["pruning_seconds"] == 0  # phases are timed only when asked for
+    assert isinstance(stats, exactgeo.GeodesicStats)
+    assert stats.window_propagations > 0 and stats.vertex_pops == sheet.vertex_count
+    assert stats.peak_windows > 0 and stats.peak_window_bytes > 0
+    assert stats.propagation_seconds >= 0
+    assert isinstance(stats.window_propagations, int) and isinstance(stats.propagation_seconds, float)
+    assert stats.pruning_seconds == 0  # phases are timed only when asked for
     timed = exactgeo.GeodesicSolver(sheet).solve(0, collect_timings=True).stats
-    assert timed["window_propagation_seconds"] > 0 and timed["pruning_seconds"] > 0
+    assert timed.window_propagation_seconds > 0 and timed.pruning_seconds > 0
+    assert "Rules 2 and 3" in type(stats).pruning_seconds.__doc__
+
+
+def test_stats_and_report_convert_compare_and_pickle(sheet):
+    stats = exactgeo.GeodesicSolver(sheet).solve(0).stats
+    as_dict = stats.to_dict()
+    assert list(as_dict)[:2] == ["window_propagations", "prime_propagations"]  # declaration order
+    assert as_dict["window_propagations"] == stats.window_propagations
+    assert pickle.loads(pickle.dumps(stats)) == stats
+    assert "window_propagations=" in repr(stats)
+    changed = pickle.loads(pickle.dumps(stats))
+    changed.queue_seconds += 1
+    assert changed != stats
+    report = sheet.report
+    assert isinstance(report, exactgeo.MeshReport)
+    assert pickle.loads(pickle.dumps(report)) == report
+    assert report.to_dict()["vertices"] == sheet.vertex_count
 
 
 def test_a_solver_is_reusable_and_its_results_stay_valid(sheet):
@@ -296,7 +314,7 @@ def test_a_solver_is_reusable_and_its_results_stay_valid(sheet):
     np.testing.assert_array_equal(first.distances, again.distances)
     np.testing.assert_array_equal(first.distances, exactgeo.distance(sheet, 0))  # not overwritten by later runs
     assert not np.array_equal(first.distances, second.distances)
-    assert first.stats["window_propagations"] == again.stats["window_propagations"]
+    assert first.stats.window_propagations == again.stats.window_propagations
 
 
 def test_a_solver_keeps_its_mesh_alive():

@@ -67,16 +67,16 @@ def test_report_counts_what_validation_found():
     vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [5, 5, 5]]
     faces = [[0, 1, 2], [1, 3, 2], [0, 0, 1]]
     report = exactgeo.Mesh(vertices, faces).report
-    assert report["faces"] == 3 and report["faces_used"] == 2
-    assert report["faces_repeating_a_vertex"] == 1
-    assert report["unreferenced_vertices"] == 1
-    assert report["boundary_edges"] == 4 and report["components"] == 1
+    assert report.faces == 3 and report.faces_used == 2
+    assert report.faces_repeating_a_vertex == 1
+    assert report.unreferenced_vertices == 1
+    assert report.boundary_edges == 4 and report.components == 1
 
 
 def test_report_matches_the_command_line(cli):
     path = shared_mesh("beetle")  # non-manifold edges, boundaries, several components
     expected = json.loads(run_cli("info", path, "--json").stdout)
-    report = exactgeo.Mesh.load(path).report
+    report = exactgeo.Mesh.load(path).report.to_dict()
     assert report == {name: expected[name] for name in report}
     assert set(report) == set(expected) - {"mesh"}
 
@@ -97,7 +97,7 @@ def test_load_reads_files_and_weld_merges_seams(tmp_path):
     )
     assert np.isinf(exactgeo.distance(exactgeo.Mesh.load(seam), 0)[4])
     welded = exactgeo.Mesh.load(seam, weld_duplicate_positions=True)
-    assert welded.report["welded_vertices"] == 2
+    assert welded.report.welded_vertices == 2
     assert exactgeo.distance(welded, 0)[4] == pytest.approx(np.sqrt(2))
 
 

@@ -1,0 +1,210 @@
+// exactgeo distance: geodesic distance from sources to every vertex (and to targets), written per vertex and
+// per target, with statistics as JSON and a summary on stdout.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string_view>
+
+#include "command.hpp"
+#include "inputs.hpp"
+#include "progress.hpp"
+#include "report_fields.hpp"
+
+namespace exactgeo::cli {
+namespace {
+
+struct DistanceArguments {
+  MeshArguments mesh;
+  SourceArguments sources;
+  double max_distance = std::numeric_limits<double>::infinity();
+  std::string targets;
+  bool labels = false;
+  std::string out;
+  std::string target_out;
+  std::string stats;
+  std::string algorithm = "vtp";
+  bool no_rule1 = false;
+  bool no_rule23 = false;
+  bool timers = false;
+  bool quiet = false;
+};
+
+// The largest finite distance and how many are infinite.
+struct Reach {
+  double max_distance = 0.0;
+  std::size_t unreachable = 0;
+};
+
+Reach reach_of(std::span<const double> distances) {
+  Reach reach;
+  for (double distance : distances) {
+    if (std::isinf(distance)) {
+      ++reach.unreachable;
+    } else {
+      reach.max_distance = std::max(reach.max_distance, distance);
+    }
+  }
+  return reach;
+}
+
+nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const LoadedMesh& loaded,
+                                  const Sources& sources, std::size_t targets,
+                                  const exactgeo::GeodesicOptions& options, const exactgeo::GeodesicStats& stats,
+                                  const Reach& reach) {
+  nlohmann::ordered_json json;
+  json["mesh"] = arguments.mesh.name;
+  json["vertices"] = loaded.mesh.vertex_count();
+  json["faces"] = loaded.mesh.face_count();
+  json["source"] = sources.vertices;
+  json["source_points"] = arguments.sources.points;
+  json["targets"] = targets;
+  json["max_distance_cutoff"] =
+      std::isinf(arguments.max_distance) ? nlohmann::ordered_json() : nlohmann::ordered_json(arguments.max_distance);
+  json["algorithm"] = exactgeo::algorithm_name(options.algorithm);
+  json["rule1"] = options.rule1;
+  json["rule23"] = options.rule23;
+  json["read_seconds"] = loaded.read_seconds;
+  json["build_seconds"] = loaded.build_seconds;
+  json.update(stats_json(stats, arguments.timers));
+  json["max_distance"] = reach.max_distance;
+  json["unreachable"] = reach.unreachable;
+  json["mesh_report"] = report_json(loaded.mesh.report());
+  json["version"] = exactgeo::kVersion;
+  return json;
+}
+
+// The run's statistics, named as in the JSON without underscores: counts but those that stay zero in this
+// variant, the time, and its phases when measured (indented under it).
+void append_stats_rows(Rows& rows, const exactgeo::GeodesicStats& stats, bool timed) {
+  exactgeo::for_each_stats_field([&](std::string_view name, auto member, exactgeo::StatsFieldKind kind, const char*) {
+    const auto value = stats.*member;
+    std::string label(name);
+    if (kind == exactgeo::StatsFieldKind::count) {
+      if (value == 0) return;
+      std::replace(label.begin(), label.end(), '_', ' ');
+      rows.emplace_back(std::move(label), std::to_string(value));
+      return;
+    }
+    if (kind == exactgeo::StatsFieldKind::phase_seconds && !timed) return;
+    label.resize(label.size() - std::string_view("_seconds").size());
+    std::replace(label.begin(), label.end(), '_', ' ');
+    if (kind == exactgeo::StatsFieldKind::phase_seconds) label = "  " + label;
+    rows.emplace_back(std::move(label), format_number("%.4f s", double(value)));
+  });
+}
+
+Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const exactgeo::GeodesicOptions& options,
+             const exactgeo::GeodesicResult& result, std::size_t targets, const Reach& reach) {
+  const std::size_t source_count = arguments.sources.vertices.size() + arguments.sources.points.size();
+  const bool cut_off = targets > 0 || !std::isinf(arguments.max_distance);
+  Rows rows = {{"mesh", arguments.mesh.name},
+               {"vertices", std::to_string(loaded.mesh.vertex_count())},
+               {"faces", std::to_string(loaded.mesh.face_count())},
+               {source_count == 1 ? "source" : "sources", describe_sources(arguments.sources)}};
+  if (options.algorithm != exactgeo::Algorithm::vtp || !options.rule1 || !options.rule23) {
+    std::string variant(exactgeo::algorithm_name(options.algorithm));
+    if (!options.rule1) variant += ", Rule 1 off";
+    if (!options.rule23) variant += ", Rules 2 and 3 off";
+    rows.emplace_back("algorithm", variant);
+  }
+  if (!std::isinf(arguments.max_distance)) rows.emplace_back("cut-off", format_number("%.12g", arguments.max_distance));
+  rows.emplace_back("max distance", format_number("%.12g", reach.max_distance));
+  rows.emplace_back(cut_off ? "unreachable or beyond" : "unreachable", std::to_string(reach.unreachable));
+  rows.emplace_back("build", format_number("%.4f s", loaded.build_seconds));
+  append_stats_rows(rows, result.stats, arguments.timers);
+  if (arguments.target_out.empty())
+    for (std::size_t t = 0; t < targets; ++t) {
+      std::string value = format_distance(result.target_distances[t]);
+      if (arguments.labels) value += " (source " + std::to_string(label_value(result.target_nearest_source[t])) + ")";
+      rows.emplace_back("target " + std::to_string(t), value);
+    }
+  return rows;
+}
+
+int run_distance(const DistanceArguments& arguments) {
+  const LoadedMesh loaded = load_mesh(arguments.mesh);
+  const exactgeo::Mesh& mesh = loaded.mesh;
+  const Sources sources = read_sources(arguments.sources, mesh);
+  const std::vector<exactgeo::SurfacePoint> targets =
+      arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>()
+                                : parse_targets(list_text(arguments.targets), mesh, "--targets");
+
+  exactgeo::GeodesicSolver solver(mesh);
+  Progress progress("vertices", mesh.vertex_count(), arguments.quiet);
+  solver.set_progress([&](double fraction) {
+    progress.update(static_cast<std::size_t>(fraction * static_cast<double>(mesh.vertex_count())));
+  });
+  const exactgeo::GeodesicOptions options{.algorithm = exactgeo::parse_algorithm(arguments.algorithm),
+                                          .rule1 = !arguments.no_rule1,
+                                          .rule23 = !arguments.no_rule23,
+                                          .max_distance = arguments.max_distance,
+                                          .collect_timings = arguments.timers};
+  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, options);
+  progress.finish();
+  const Reach reach = reach_of(result.distances);
+
+  const auto labels_if_asked = [&](const std::vector<std::uint32_t>& labels) {
+    return arguments.labels ? std::span<const std::uint32_t>(labels) : std::span<const std::uint32_t>();
+  };
+  if (!arguments.out.empty())
+    write_values(arguments.out, kVertexValueFormats,
+                 {result.distances, labels_if_asked(result.nearest_source), "vertex", &mesh});
+  if (!arguments.target_out.empty())
+    write_values(arguments.target_out, kTargetValueFormats,
+                 {result.target_distances, labels_if_asked(result.target_nearest_source), "target", nullptr});
+  if (!arguments.stats.empty())
+    write_json(arguments.stats, stats_file(arguments, loaded, sources, targets.size(), options, result.stats, reach));
+  if (arguments.out.empty()) print_table(summary(arguments, loaded, options, result, targets.size(), reach));
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_distance_command(CLI::App& app) {
+  auto arguments = std::make_shared<DistanceArguments>();
+  DistanceArguments& a = *arguments;
+  CLI::App* command = app.add_subcommand("distance", "Geodesic distance from sources to every vertex (and to targets)");
+  add_mesh_options(*command, a.mesh);
+  add_source_options(*command, a.sources);
+  command
+      ->add_option("--max-distance", a.max_distance, "Stop the wavefront at this distance; vertices farther away get inf")
+      ->check(distance_check())
+      ->type_name("R");
+  command
+      ->add_option("--targets", a.targets,
+                   "Targets, as a file or a list: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
+                   "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
+                   "exact up to the farthest target and inf beyond")
+      ->type_name("FILE|LIST");
+  command->add_flag("--labels", a.labels,
+                    "Add the nearest source (index in the order given, vertices first; -1 if none) to each output row");
+  add_output_option(*command, "--out", a.out,
+                    "Write one distance per vertex in input order: .txt (%.17g, 'inf' if unreachable), "
+                    ".csv (vertex,distance), .npy (float64) or .ply (the mesh with a distance property and colours)",
+                    kVertexValueFormats, "output");
+  add_output_option(*command, "--target-out", a.target_out,
+                    "Write one distance per target: .txt, .csv (target,distance) or .npy; without it the summary "
+                    "lists them",
+                    kTargetValueFormats, "target output");
+  command->add_option("--stats", a.stats, "Write statistics as JSON")->type_name("FILE.json");
+  std::vector<std::string> algorithm_names;
+  for (const auto& [value, name] : exactgeo::kAlgorithmNames) algorithm_names.emplace_back(name);
+  command
+      ->add_option("--algorithm", a.algorithm,
+                   "Variant (paper Section 5): vtp (default), opvtp (order-preserving merges), ftp (face-sorted "
+                   "wavefront), opftp. All give the same distances")
+      ->check(CLI::IsMember(algorithm_names))
+      ->type_name("NAME");
+  command->add_flag("--no-rule1", a.no_rule1,
+                    "Ablation: split every window at the opposite vertex instead of pruning with Rule 1");
+  command->add_flag("--no-rule23", a.no_rule23, "Ablation: no pairwise pruning of neighbouring windows (Rules 2 and 3)");
+  command->add_flag("--timers", a.timers,
+                    "Split the propagation time into window propagation, pruning and queue (in --stats; the clock "
+                    "reads slow the run down by up to 60%)");
+  command->add_flag("--quiet", a.quiet, "No progress line on stderr");
+  command->footer(kExitCodesHelp);
+  return {command, [arguments] { return run_distance(*arguments); }};
+}
+
+}  // namespace exactgeo::cli

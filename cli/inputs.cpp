@@ -1,0 +1,284 @@
+#include "inputs.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <utility>
+
+#include "exactgeo/shapes.hpp"
+#include "progress.hpp"
+
+namespace exactgeo::cli {
+namespace {
+
+// The demo default `@torus`: 2 * 64 * 36 = 4,608 faces, small enough to run instantly, curved enough to
+// show the wavefront bending around bumps and saddles.
+constexpr int kDemoTorusMajorSegments = 64;
+constexpr int kDemoTorusMinorSegments = 36;
+
+constexpr const char* kMeshHelp =
+    "Mesh file (.obj, .ply, .off, .stl) or a built-in mesh:\n"
+    "  @torus          bumpy torus, 64 x 36 segments (4,608 faces): the demo default\n"
+    "  @torus:NU:NV    bumpy torus with NU segments around the ring and NV around the tube\n"
+    "  @icosphere:K    unit icosphere, icosahedron subdivided K times (20 * 4^K faces)\n"
+    "  @grid:NX:NY     flat grid of NX x NY unit squares; vertex j*(NX+1)+i is at (i, j, 0)";
+
+enum class BuiltinShape { torus, icosphere, grid };
+
+struct BuiltinMesh {
+  BuiltinShape shape;
+  std::vector<int> parameters;
+};
+
+// "@torus", "@torus:NU:NV", "@icosphere:K", "@grid:NX:NY"; nullopt for anything else. Only the syntax is
+// checked here: the generators reject values out of their range.
+std::optional<BuiltinMesh> parse_builtin_mesh(std::string_view name) {
+  if (!name.starts_with('@')) return std::nullopt;
+  name.remove_prefix(1);
+  std::vector<std::string_view> fields;
+  for (std::size_t start = 0;;) {
+    const std::size_t colon = name.find(':', start);
+    fields.push_back(name.substr(start, colon - start));
+    if (colon == std::string_view::npos) break;
+    start = colon + 1;
+  }
+
+  BuiltinMesh mesh;
+  for (std::size_t i = 1; i < fields.size(); ++i) {
+    int value = 0;
+    const char* end = fields[i].data() + fields[i].size();
+    const auto [ptr, ec] = std::from_chars(fields[i].data(), end, value);
+    if (ec != std::errc() || ptr != end || fields[i].empty()) return std::nullopt;
+    mesh.parameters.push_back(value);
+  }
+  const std::size_t count = mesh.parameters.size();
+  if (fields[0] == "torus" && (count == 0 || count == 2)) {
+    mesh.shape = BuiltinShape::torus;
+  } else if (fields[0] == "icosphere" && count == 1) {
+    mesh.shape = BuiltinShape::icosphere;
+  } else if (fields[0] == "grid" && count == 2) {
+    mesh.shape = BuiltinShape::grid;
+  } else {
+    return std::nullopt;
+  }
+  return mesh;
+}
+
+exactgeo::MeshSoup generate_builtin_mesh(const BuiltinMesh& mesh) {
+  const std::vector<int>& p = mesh.parameters;
+  switch (mesh.shape) {
+    case BuiltinShape::torus:
+      return p.empty() ? exactgeo::make_bumpy_torus(kDemoTorusMajorSegments, kDemoTorusMinorSegments)
+                       : exactgeo::make_bumpy_torus(p[0], p[1]);
+    case BuiltinShape::icosphere:
+      return exactgeo::make_icosphere(p[0]);
+    case BuiltinShape::grid:
+      return exactgeo::make_grid(p[0], p[1], p[0], p[1]);
+  }
+  throw exactgeo::Error(exactgeo::ErrorCode::internal, "unhandled built-in mesh shape");
+}
+
+// "F:b0,b1,b2": a point on input triangle F, with the barycentric weights of its three corners. Only the
+// syntax is checked here; the library checks the values against the mesh.
+std::optional<exactgeo::SurfacePoint> parse_surface_point(std::string_view text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string_view::npos) return std::nullopt;
+  exactgeo::SurfacePoint point;
+  const char* end = text.data() + colon;
+  auto [ptr, ec] = std::from_chars(text.data(), end, point.face);
+  if (ec != std::errc() || ptr != end || colon == 0) return std::nullopt;
+  const char* cursor = text.data() + colon + 1;
+  const char* stop = text.data() + text.size();
+  for (int k = 0; k < 3; ++k) {
+    const auto [next, error] = std::from_chars(cursor, stop, point.barycentric[k]);
+    if (error != std::errc()) return std::nullopt;
+    cursor = next;
+    if (k < 2) {
+      if (cursor == stop || *cursor != ',') return std::nullopt;
+      ++cursor;
+    }
+  }
+  if (cursor != stop) return std::nullopt;
+  return point;
+}
+
+// A vertex index that fits the library's 32-bit type; anything else cannot name a vertex of any mesh.
+std::optional<std::uint32_t> parse_vertex(std::string_view text) {
+  std::uint32_t v = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size() || text.empty()) return std::nullopt;
+  return v;
+}
+
+exactgeo::Error invalid_argument(const std::string& message) {
+  return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, message);
+}
+
+}  // namespace
+
+void add_mesh_options(CLI::App& command, MeshArguments& mesh) {
+  // A malformed built-in name is a usage error; file paths are checked when read.
+  const CLI::Validator check(
+      [](std::string& name) -> std::string {
+        if (name.starts_with('@') && !parse_builtin_mesh(name))
+          return "unknown built-in mesh '" + name + "' (use @torus, @torus:NU:NV, @icosphere:K or @grid:NX:NY)";
+        return {};
+      },
+      "", "mesh");
+  command.add_option("MESH", mesh.name, kMeshHelp)->required()->check(check)->type_name("");
+  command.add_flag("--weld", mesh.weld, "Merge vertices with identical positions");
+}
+
+LoadedMesh load_mesh(const MeshArguments& arguments) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::optional<BuiltinMesh> builtin = parse_builtin_mesh(arguments.name);
+  const exactgeo::MeshSoup soup = builtin ? generate_builtin_mesh(*builtin) : exactgeo::read_mesh_soup(arguments.name);
+  const double read_seconds = seconds_since(start);
+  exactgeo::Mesh mesh(soup, exactgeo::MeshOptions{.weld_duplicate_positions = arguments.weld});
+  return {std::move(mesh), read_seconds, seconds_since(start)};
+}
+
+void add_source_options(CLI::App& command, SourceArguments& sources) {
+  // A vertex index is a plain decimal number; whether it exists is up to the mesh.
+  const CLI::Validator vertex_check(
+      [](std::string& text) -> std::string {
+        if (text.empty() || !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
+          return "'" + text + "' is not a vertex index";
+        return {};
+      },
+      "", "source");
+  const CLI::Validator point_check(
+      [](std::string& text) -> std::string {
+        if (!parse_surface_point(text)) return "'" + text + "' is not a surface point F:b0,b1,b2";
+        return {};
+      },
+      "", "surface point");
+  CLI::Option* vertices = command.add_option("--source", sources.vertices,
+                                             "Source vertex index (repeat for several sources)")
+                              ->check(vertex_check)
+                              ->allow_extra_args(false)  // one index per --source, so MESH may follow it
+                              ->type_name("I");
+  CLI::Option* points = command.add_option("--source-point", sources.points,
+                                           "Source point on input triangle F with barycentric weights b0,b1,b2 "
+                                           "(repeat for several; numbered after the --source vertices)")
+                            ->check(point_check)
+                            ->allow_extra_args(false)
+                            ->type_name("F:b0,b1,b2");
+  command.callback([&command, vertices, points] {
+    if (vertices->count() == 0 && points->count() == 0)
+      throw CLI::RequiredError(command.get_name() + ": --source or --source-point");
+  });
+}
+
+Sources read_sources(const SourceArguments& arguments, const exactgeo::Mesh& mesh) {
+  Sources sources;
+  for (const std::string& text : arguments.vertices) {
+    const auto v = parse_vertex(text);
+    if (!v)
+      throw invalid_argument("source vertex " + text + " is out of range (mesh has " +
+                             std::to_string(mesh.vertex_count()) + " vertices)");
+    sources.vertices.push_back(*v);
+  }
+  sources.as_points = !arguments.points.empty();
+  if (sources.as_points) {
+    for (std::uint32_t v : sources.vertices) sources.points.push_back(exactgeo::vertex_point(mesh, v));
+    for (const std::string& text : arguments.points) sources.points.push_back(*parse_surface_point(text));
+  }
+  return sources;
+}
+
+std::string describe_sources(const SourceArguments& arguments) {
+  std::string text;
+  for (const auto& list : {arguments.vertices, arguments.points})
+    for (const std::string& source : list) text += (text.empty() ? "" : " ") + source;
+  return text;
+}
+
+const exactgeo::GeodesicResult& solve(exactgeo::GeodesicSolver& solver, const Sources& sources,
+                                      std::span<const exactgeo::SurfacePoint> targets,
+                                      const exactgeo::GeodesicOptions& options) {
+  if (sources.as_points) return solver.solve(sources.points, targets, options);
+  return solver.solve(sources.vertices, targets, options);
+}
+
+std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
+                                                  const std::string& origin) {
+  std::vector<exactgeo::SurfacePoint> targets;
+  std::string entry;
+  std::istringstream entries(text);
+  while (entries >> entry) {
+    std::istringstream parts(entry);
+    for (std::string part; std::getline(parts, part, ';');) {
+      if (part.empty()) continue;
+      if (part.find(':') != std::string::npos) {
+        const auto point = parse_surface_point(part);
+        if (!point) throw invalid_argument(origin + ": target '" + part + "' is not a surface point F:b0,b1,b2");
+        targets.push_back(*point);
+        continue;
+      }
+      std::istringstream vertices(part);
+      for (std::string index; std::getline(vertices, index, ',');) {
+        const auto v = parse_vertex(index);
+        if (!v)
+          throw invalid_argument(origin + ": target '" + index +
+                                 "' is neither a vertex index nor a point F:b0,b1,b2");
+        targets.push_back(exactgeo::vertex_point(mesh, *v));
+      }
+    }
+  }
+  if (targets.empty()) throw invalid_argument(origin + ": no target given");
+  return targets;
+}
+
+std::string list_text(const std::string& argument) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(argument, error)) {
+    // A list never holds a '/': this was meant as a file.
+    if (argument.find('/') != std::string::npos)
+      throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "': no such file");
+    return argument;
+  }
+  std::ifstream file(argument, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file && !file.eof()) throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "'");
+  return text.str();
+}
+
+std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin) {
+  std::vector<std::uint32_t> vertices;
+  std::string entry;
+  std::istringstream entries(text);
+  while (entries >> entry) {
+    std::replace(entry.begin(), entry.end(), ';', ',');
+    std::istringstream parts(entry);
+    for (std::string index; std::getline(parts, index, ',');) {
+      if (index.empty()) continue;
+      const auto v = parse_vertex(index);
+      if (!v) throw invalid_argument(origin + ": '" + index + "' is not a vertex index");
+      vertices.push_back(*v);
+    }
+  }
+  if (vertices.empty()) throw invalid_argument(origin + ": no vertex given");
+  return vertices;
+}
+
+const CLI::Validator& distance_check() {
+  static const CLI::Validator check(
+      [](std::string& text) -> std::string {
+        double value = 0;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || ptr != text.data() + text.size() || !(value >= 0))
+          return "'" + text + "' is not a non-negative distance";
+        return {};
+      },
+      "", "distance");
+  return check;
+}
+
+}  // namespace exactgeo::cli

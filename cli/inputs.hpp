@@ -1,0 +1,69 @@
+// What the commands read from their arguments: the mesh (a file or a built-in shape), sources, targets and
+// vertex lists. Syntax is checked while parsing (a usage error, exit 1); values against the mesh once it is
+// loaded (exactgeo::Error, exit 2).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "exactgeo/exactgeo.hpp"
+
+namespace exactgeo::cli {
+
+// MESH and --weld, which every command takes.
+struct MeshArguments {
+  std::string name;  // a file or a built-in mesh such as @torus
+  bool weld = false;
+};
+void add_mesh_options(CLI::App& command, MeshArguments& mesh);
+
+struct LoadedMesh {
+  exactgeo::Mesh mesh;
+  double read_seconds;   // reading the file or generating the shape
+  double build_seconds;  // read_seconds plus validating and building the Mesh
+};
+LoadedMesh load_mesh(const MeshArguments& arguments);
+
+// --source and --source-point, at least one of them.
+struct SourceArguments {
+  std::vector<std::string> vertices;  // syntax checked while parsing, converted after loading
+  std::vector<std::string> points;
+};
+void add_source_options(CLI::App& command, SourceArguments& sources);
+
+// The sources as the library takes them: vertex indices alone keep the vertex-source semantics (every copy
+// of a split vertex is a source); with points, vertices become points too. Vertices are numbered first.
+struct Sources {
+  std::vector<std::uint32_t> vertices;
+  std::vector<exactgeo::SurfacePoint> points;
+  bool as_points = false;
+};
+Sources read_sources(const SourceArguments& arguments, const exactgeo::Mesh& mesh);
+// The sources as the user wrote them, for summaries.
+std::string describe_sources(const SourceArguments& arguments);
+
+const exactgeo::GeodesicResult& solve(exactgeo::GeodesicSolver& solver, const Sources& sources,
+                                      std::span<const exactgeo::SurfacePoint> targets,
+                                      const exactgeo::GeodesicOptions& options);
+
+// Targets: entries separated by spaces, newlines or ';', each a point F:b0,b1,b2 or vertex indices separated
+// by commas. `text` is a file's contents or the argument itself; `origin` names the option in messages.
+std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
+                                                  const std::string& origin);
+
+// A list argument: the contents of the file it names if there is one, else the argument itself.
+std::string list_text(const std::string& argument);
+// Vertex indices separated by spaces, newlines, ',' or ';'.
+std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin);
+
+// A check for options taking a distance: a number, not negative.
+const CLI::Validator& distance_check();
+
+}  // namespace exactgeo::cli

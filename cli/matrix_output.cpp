@@ -1,0 +1,112 @@
+// Distance matrices, written block by block as the rows arrive, so memory stays at a block of rows where the
+// format allows it.
+#include <cmath>
+#include <array>
+#include <memory>
+
+#include "npy.hpp"
+#include "outputs.hpp"
+
+namespace exactgeo::cli {
+namespace {
+
+// A matrix written through a stream: the file appears when finish() commits it.
+class FileMatrixWriter : public MatrixWriter {
+ public:
+  explicit FileMatrixWriter(const std::string& path) : output_(path), file_(output_.stream()) {}
+  void finish() override { output_.commit(); }
+
+ protected:
+  OutputFile output_;
+  std::FILE* file_;
+};
+
+// Dense float64, inf beyond the cut-off: the header, then the rows as they come.
+class NpyMatrixWriter final : public FileMatrixWriter {
+ public:
+  NpyMatrixWriter(const std::string& path, std::size_t rows, std::size_t columns) : FileMatrixWriter(path) {
+    const std::string header = npy_header("<f8", std::vector<std::size_t>{rows, columns});
+    std::fwrite(header.data(), 1, header.size(), file_);
+  }
+  void write_rows(std::size_t, std::span<const double> rows) override {
+    const std::vector<unsigned char> bytes = little_endian_bytes(rows);
+    std::fwrite(bytes.data(), 1, bytes.size(), file_);
+  }
+};
+
+// source,vertex,distance for the finite entries.
+class CsvMatrixWriter final : public FileMatrixWriter {
+ public:
+  CsvMatrixWriter(const std::string& path, std::size_t columns) : FileMatrixWriter(path), columns_(columns) {
+    std::fputs("source,vertex,distance\n", file_);
+  }
+  void write_rows(std::size_t first_row, std::span<const double> rows) override {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (std::isinf(rows[i])) continue;
+      std::fprintf(file_, "%zu,%zu,%.17g\n", first_row + i / columns_, i % columns_, rows[i]);
+    }
+  }
+
+ private:
+  std::size_t columns_;
+};
+
+// scipy.sparse CSR of the finite entries, for scipy.sparse.load_npz. A zip member's size is written before
+// its data, so the finite entries are gathered first and the archive written at the end.
+class NpzMatrixWriter final : public MatrixWriter {
+ public:
+  NpzMatrixWriter(const std::string& path, std::size_t rows, std::size_t columns)
+      : output_(path), rows_(rows), columns_(columns) {}
+  void write_rows(std::size_t, std::span<const double> rows) override {
+    for (std::size_t r = 0; r < rows.size() / columns_; ++r) {
+      for (std::size_t v = 0; v < columns_; ++v) {
+        const double d = rows[r * columns_ + v];
+        if (std::isinf(d)) continue;
+        data_.push_back(d);
+        indices_.push_back(static_cast<std::int32_t>(v));
+      }
+      indptr_.push_back(static_cast<std::int64_t>(data_.size()));
+    }
+  }
+  void finish() override {
+    const std::vector<std::int64_t> shape = {static_cast<std::int64_t>(rows_), static_cast<std::int64_t>(columns_)};
+    const std::vector<NpzMember> members = {
+        {"indices", "<i4", {indices_.size()}, little_endian_bytes(indices_)},
+        {"indptr", "<i8", {indptr_.size()}, little_endian_bytes(indptr_)},
+        {"format", "|S3", {}, {'c', 's', 'r'}},
+        {"shape", "<i8", {2}, little_endian_bytes(shape)},
+        {"data", "<f8", {data_.size()}, little_endian_bytes(data_)},
+    };
+    write_npz(output_.temporary_path(), members);
+    output_.commit();
+  }
+
+ private:
+  OutputFile output_;
+  std::size_t rows_, columns_;
+  std::vector<double> data_;
+  std::vector<std::int32_t> indices_;
+  std::vector<std::int64_t> indptr_ = {0};
+};
+
+std::unique_ptr<MatrixWriter> make_npy(const std::string& path, std::size_t rows, std::size_t columns) {
+  return std::make_unique<NpyMatrixWriter>(path, rows, columns);
+}
+std::unique_ptr<MatrixWriter> make_npz(const std::string& path, std::size_t rows, std::size_t columns) {
+  return std::make_unique<NpzMatrixWriter>(path, rows, columns);
+}
+std::unique_ptr<MatrixWriter> make_csv(const std::string& path, std::size_t, std::size_t columns) {
+  return std::make_unique<CsvMatrixWriter>(path, columns);
+}
+
+constexpr std::array<Format<MatrixWriterFactory>, 3> kMatrixFormatTable = {{
+    {".npy", make_npy},
+    {".npz", make_npz},
+    {".csv", make_csv},
+}};
+
+}  // namespace
+
+const std::span<const Format<MatrixWriterFactory>> kMatrixFormats = kMatrixFormatTable;
+
+}  // namespace exactgeo::cli

@@ -1,0 +1,291 @@
+#include "outputs.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "npy.hpp"
+
+namespace exactgeo::cli {
+namespace {
+
+exactgeo::Error io_error(const std::string& message) { return exactgeo::Error(exactgeo::ErrorCode::io_error, message); }
+
+// --- Values per vertex or per target -------------------------------------------------------------------
+
+void write_values_txt(std::FILE* file, const Values& values) {
+  for (std::size_t i = 0; i < values.distances.size(); ++i) {
+    print_distance(file, values.distances[i]);
+    if (!values.labels.empty()) std::fprintf(file, " %lld", label_value(values.labels[i]));
+    std::fputc('\n', file);
+  }
+}
+
+void write_values_csv(std::FILE* file, const Values& values) {
+  std::fprintf(file, "%s,distance%s\n", values.row_name, values.labels.empty() ? "" : ",nearest_source");
+  for (std::size_t i = 0; i < values.distances.size(); ++i) {
+    std::fprintf(file, "%zu,", i);
+    print_distance(file, values.distances[i]);
+    if (!values.labels.empty()) std::fprintf(file, ",%lld", label_value(values.labels[i]));
+    std::fputc('\n', file);
+  }
+}
+
+// With labels the array has two columns, distance and nearest source (-1 where there is none).
+void write_values_npy(std::FILE* file, const Values& values) {
+  const std::size_t rows = values.distances.size();
+  std::vector<double> data;
+  data.reserve(rows * 2);
+  for (std::size_t i = 0; i < rows; ++i) {
+    data.push_back(values.distances[i]);
+    if (!values.labels.empty()) data.push_back(static_cast<double>(label_value(values.labels[i])));
+  }
+  const std::vector<std::size_t> shape =
+      values.labels.empty() ? std::vector<std::size_t>{rows} : std::vector<std::size_t>{rows, 2};
+  const std::string header = npy_header("<f8", shape);
+  const std::vector<unsigned char> bytes = little_endian_bytes(data);
+  std::fwrite(header.data(), 1, header.size(), file);
+  std::fwrite(bytes.data(), 1, bytes.size(), file);
+}
+
+// A colour for t in [0, 1]: a blue-green-yellow ramp like viridis, from a few of its stops.
+std::array<std::uint8_t, 3> ramp_colour(double t) {
+  static constexpr std::array<std::array<double, 3>, 5> kStops = {{
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};
+  const double x = std::clamp(t, 0.0, 1.0) * (kStops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), kStops.size() - 2);
+  const double f = x - static_cast<double>(i);
+  std::array<std::uint8_t, 3> colour{};
+  for (int k = 0; k < 3; ++k) colour[k] = std::uint8_t(std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k])));
+  return colour;
+}
+
+// The mesh as ASCII PLY with the distance as a per-vertex scalar (and the nearest source with labels) and a
+// colour ramp from 0 to the largest finite distance; unreachable vertices are grey with distance inf.
+void write_values_ply(std::FILE* file, const Values& values) {
+  const exactgeo::Mesh& mesh = *values.mesh;
+  const auto positions = mesh.positions();
+  const auto triangles = mesh.triangles();
+  double largest = 0;
+  for (double d : values.distances)
+    if (std::isfinite(d)) largest = std::max(largest, d);
+  std::fprintf(file, "ply\nformat ascii 1.0\ncomment written by exactgeo: geodesic distance per vertex\n");
+  std::fprintf(file, "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n",
+               mesh.vertex_count());
+  std::fprintf(file, "property double distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
+  std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
+  std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const double d = values.distances[v];
+    const std::array<std::uint8_t, 3> colour =
+        std::isfinite(d) ? ramp_colour(largest > 0 ? d / largest : 0) : std::array<std::uint8_t, 3>{128, 128, 128};
+    std::fprintf(file, "%.17g %.17g %.17g ", positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+    print_distance(file, d);
+    if (!values.labels.empty()) std::fprintf(file, " %lld", label_value(values.labels[v]));
+    std::fprintf(file, " %u %u %u\n", colour[0], colour[1], colour[2]);
+  }
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    std::fprintf(file, "3 %u %u %u\n", triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]);
+}
+
+constexpr std::array<Format<ValuesWriter>, 4> kVertexValueFormatTable = {{
+    {".txt", write_values_txt},
+    {".csv", write_values_csv},
+    {".npy", write_values_npy},
+    {".ply", write_values_ply},
+}};
+// Per-target values have no mesh to colour, so no .ply.
+constexpr std::array<Format<ValuesWriter>, 3> kTargetValueFormatTable = {{
+    {".txt", write_values_txt},
+    {".csv", write_values_csv},
+    {".npy", write_values_npy},
+}};
+
+// --- Paths ---------------------------------------------------------------------------------------------
+
+using Kind = exactgeo::PathPointLocation::Kind;
+
+// x,y,z,kind,a,b,t: the vertex, the edge's two vertices and parameter, or the face and its barycentric weights.
+void write_path_csv(std::FILE* file, const exactgeo::GeodesicPath& path) {
+  std::fprintf(file, "x,y,z,kind,a,b,t\n");
+  for (std::size_t i = 0; i < path.points.size(); ++i) {
+    const auto& p = path.points[i];
+    const auto& location = path.locations[i];
+    std::fprintf(file, "%.17g,%.17g,%.17g,", p[0], p[1], p[2]);
+    if (location.kind == Kind::vertex)
+      std::fprintf(file, "vertex,%u,,\n", location.vertex);
+    else if (location.kind == Kind::edge)
+      std::fprintf(file, "edge,%u,%u,%.17g\n", location.from, location.to, location.t);
+    else
+      std::fprintf(file, "face,%u,,%.17g;%.17g;%.17g\n", location.face_point.face, location.face_point.barycentric[0],
+                   location.face_point.barycentric[1], location.face_point.barycentric[2]);
+  }
+}
+
+// A polyline that MeshLab, Blender and ParaView draw over the mesh.
+void write_path_obj(std::FILE* file, const exactgeo::GeodesicPath& path) {
+  std::fprintf(file, "# geodesic path, length %.17g\n", path.length);
+  for (const auto& p : path.points) std::fprintf(file, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+  if (path.points.size() > 1) {
+    std::fputc('l', file);
+    for (std::size_t i = 1; i <= path.points.size(); ++i) std::fprintf(file, " %zu", i);
+    std::fputc('\n', file);
+  }
+}
+
+void write_path_json(std::FILE* file, const exactgeo::GeodesicPath& path) {
+  nlohmann::ordered_json json;
+  json["length"] = path.length;
+  json["source"] = label_value(path.source);
+  json["points"] = path.points;
+  nlohmann::ordered_json locations = nlohmann::ordered_json::array();
+  for (const auto& location : path.locations) {
+    nlohmann::ordered_json item;
+    if (location.kind == Kind::vertex) {
+      item["vertex"] = location.vertex;
+    } else if (location.kind == Kind::edge) {
+      item["edge"] = {location.from, location.to};
+      item["t"] = location.t;
+    } else {
+      item["face"] = location.face_point.face;
+      item["barycentric"] = location.face_point.barycentric;
+    }
+    locations.push_back(item);
+  }
+  json["locations"] = locations;
+  const std::string text = json.dump(2) + "\n";
+  std::fwrite(text.data(), 1, text.size(), file);
+}
+
+constexpr std::array<Format<PathWriter>, 3> kPathFormatTable = {{
+    {".csv", write_path_csv},
+    {".obj", write_path_obj},
+    {".json", write_path_json},
+}};
+
+// --- Samples -------------------------------------------------------------------------------------------
+
+void write_samples_txt(std::FILE* file, const exactgeo::Sampling& sampling) {
+  for (std::uint32_t sample : sampling.samples) std::fprintf(file, "%u\n", sample);
+}
+
+// sample,vertex,radius: the radius is the distance to the samples before.
+void write_samples_csv(std::FILE* file, const exactgeo::Sampling& sampling) {
+  std::fputs("sample,vertex,radius\n", file);
+  for (std::size_t i = 0; i < sampling.samples.size(); ++i) {
+    std::fprintf(file, "%zu,%u,", i, sampling.samples[i]);
+    print_distance(file, sampling.radii[i]);
+    std::fputc('\n', file);
+  }
+}
+
+// The sample vertices as a 1-D int64 array.
+void write_samples_npy(std::FILE* file, const exactgeo::Sampling& sampling) {
+  const std::vector<std::int64_t> samples(sampling.samples.begin(), sampling.samples.end());
+  const std::string header = npy_header("<i8", std::vector<std::size_t>{samples.size()});
+  const std::vector<unsigned char> bytes = little_endian_bytes(samples);
+  std::fwrite(header.data(), 1, header.size(), file);
+  std::fwrite(bytes.data(), 1, bytes.size(), file);
+}
+
+constexpr std::array<Format<SamplesWriter>, 3> kSamplesFormatTable = {{
+    {".txt", write_samples_txt},
+    {".csv", write_samples_csv},
+    {".npy", write_samples_npy},
+}};
+
+}  // namespace
+
+const std::span<const Format<ValuesWriter>> kVertexValueFormats = kVertexValueFormatTable;
+const std::span<const Format<ValuesWriter>> kTargetValueFormats = kTargetValueFormatTable;
+const std::span<const Format<PathWriter>> kPathFormats = kPathFormatTable;
+const std::span<const Format<SamplesWriter>> kSamplesFormats = kSamplesFormatTable;
+
+std::string extension_of(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return extension;
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  // Beside the destination, so that the rename stays on one file system; hidden, and named as unfinished.
+  const std::filesystem::path destination(path_);
+  temporary_ = (destination.parent_path() / ("." + destination.filename().string() + ".partial-XXXXXX")).string();
+  const int descriptor = ::mkstemp(temporary_.data());
+  if (descriptor < 0) throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
+  // mkstemp makes the file private (0600); an output gets the permissions a new file would have.
+  const ::mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::fchmod(descriptor, 0666 & ~mask);
+  ::close(descriptor);
+}
+
+OutputFile::~OutputFile() {
+  if (stream_) std::fclose(stream_);
+  if (!committed_) std::remove(temporary_.c_str());
+}
+
+std::FILE* OutputFile::stream() {
+  if (!stream_) {
+    stream_ = std::fopen(temporary_.c_str(), "wb");
+    if (!stream_) throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
+  }
+  return stream_;
+}
+
+void OutputFile::commit() {
+  if (stream_) {
+    const bool failed = std::ferror(stream_) != 0;
+    const bool closed = std::fclose(stream_) == 0;
+    stream_ = nullptr;
+    if (failed || !closed) throw io_error("error writing '" + path_ + "': " + std::strerror(errno));
+  }
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
+    throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
+  committed_ = true;
+}
+
+void write_file(const std::string& path, const std::function<void(std::FILE*)>& write) {
+  OutputFile output(path);
+  write(output.stream());
+  output.commit();
+}
+
+void write_values(const std::string& path, std::span<const Format<ValuesWriter>> formats, const Values& values) {
+  const ValuesWriter write = find_format(formats, path)->write;
+  write_file(path, [&](std::FILE* file) { write(file, values); });
+}
+
+void print_distance(std::FILE* file, double distance) { std::fputs(format_distance(distance).c_str(), file); }
+
+std::string format_distance(double distance) {
+  return std::isinf(distance) ? "inf" : format_number("%.17g", distance);
+}
+
+std::string format_number(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+long long label_value(std::uint32_t label) { return label == exactgeo::kNoSource ? -1 : static_cast<long long>(label); }
+
+void print_table(const Rows& rows) {
+  std::size_t width = 0;
+  for (const auto& row : rows) width = std::max(width, row.first.size());
+  for (const auto& [name, value] : rows) std::printf("%-*s  %s\n", int(width), name.c_str(), value.c_str());
+}
+
+void write_json(const std::string& path, const nlohmann::ordered_json& json) {
+  const std::string text = json.dump(2) + "\n";
+  write_file(path, [&](std::FILE* file) { std::fwrite(text.data(), 1, text.size(), file); });
+}
+
+}  // namespace exactgeo::cli

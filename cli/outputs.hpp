@@ -1,0 +1,135 @@
+// What the commands write: files chosen by extension from one table per kind of result (values per vertex
+// or per target, paths, samples, matrices), the JSON statistics and the aligned text summaries. A new
+// format is one writer and one table line.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "exactgeo/exactgeo.hpp"
+
+namespace exactgeo::cli {
+
+// One output format: the lower-case extension that selects it and the function that writes it.
+template <class Writer>
+struct Format {
+  std::string_view extension;
+  Writer write;
+};
+
+// A file's extension in lower case (".npy"): every output format is chosen by it, whatever its case.
+std::string extension_of(const std::string& path);
+
+template <class Writer>
+const Format<Writer>* find_format(std::span<const Format<Writer>> formats, const std::string& path) {
+  const std::string extension = extension_of(path);
+  for (const Format<Writer>& format : formats)
+    if (format.extension == extension) return &format;
+  return nullptr;
+}
+
+// "FILE.{txt,csv}" for the help text and "must be .txt or .csv" for messages, from the table.
+template <class Writer>
+std::pair<std::string, std::string> format_names(std::span<const Format<Writer>> formats) {
+  std::string braces, sentence;
+  for (std::size_t i = 0; i < formats.size(); ++i) {
+    braces += (i ? "," : "") + std::string(formats[i].extension.substr(1));
+    sentence += (i == 0 ? "" : i + 1 == formats.size() ? " or " : ", ") + std::string(formats[i].extension);
+  }
+  return {"FILE.{" + braces + "}", sentence};
+}
+
+// Adds an output option to `command` that accepts the table's extensions (a usage error otherwise); `what`
+// names the output in the message: "unsupported WHAT file 'x.xyz': the extension must be .txt or .csv".
+template <class Writer>
+CLI::Option* add_output_option(CLI::App& command, const std::string& name, std::string& path,
+                               const std::string& help, std::span<const Format<Writer>> formats,
+                               const std::string& what) {
+  const auto [type_name, extensions] = format_names(formats);
+  const CLI::Validator check(
+      [formats, what, extensions](std::string& file) -> std::string {
+        if (find_format(formats, file)) return {};
+        return "unsupported " + what + " file '" + file + "': the extension must be " + extensions;
+      },
+      "", what);
+  return command.add_option(name, path, help)->check(check)->type_name(type_name);
+}
+
+// An output file that appears only when complete: written to a temporary file beside its destination and
+// renamed over it by commit(). A run that fails or is interrupted leaves an existing file as it was, and
+// never a truncated file that would load as a result. Every failure is an io_error naming the file.
+class OutputFile {
+ public:
+  explicit OutputFile(std::string path);
+  ~OutputFile();  // uncommitted: removes the temporary file
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  std::FILE* stream();  // the temporary file, opened on first use
+  // For writers that open the file themselves (libzip): write here, then commit().
+  const std::string& temporary_path() const { return temporary_; }
+  void commit();
+
+ private:
+  std::string path_, temporary_;
+  std::FILE* stream_ = nullptr;
+  bool committed_ = false;
+};
+
+// Lets `write` fill `path` through an OutputFile.
+void write_file(const std::string& path, const std::function<void(std::FILE*)>& write);
+
+// Values per vertex or per target; with labels, each row also gives the nearest source (-1 where none).
+struct Values {
+  std::span<const double> distances;
+  std::span<const std::uint32_t> labels;  // empty: no label column
+  const char* row_name;                   // "vertex" or "target": the first CSV column
+  const exactgeo::Mesh* mesh;             // the mesh the values belong to (.ply), or null for targets
+};
+using ValuesWriter = void (*)(std::FILE*, const Values&);
+extern const std::span<const Format<ValuesWriter>> kVertexValueFormats;  // .txt .csv .npy .ply
+extern const std::span<const Format<ValuesWriter>> kTargetValueFormats;  // .txt .csv .npy
+void write_values(const std::string& path, std::span<const Format<ValuesWriter>> formats, const Values& values);
+
+using PathWriter = void (*)(std::FILE*, const exactgeo::GeodesicPath&);
+extern const std::span<const Format<PathWriter>> kPathFormats;  // .csv .obj .json
+
+using SamplesWriter = void (*)(std::FILE*, const exactgeo::Sampling&);
+extern const std::span<const Format<SamplesWriter>> kSamplesFormats;  // .txt .csv .npy
+
+// A distance matrix arriving in blocks of whole rows (sources x vertices), written as it comes.
+class MatrixWriter {
+ public:
+  virtual ~MatrixWriter() = default;
+  virtual void write_rows(std::size_t first_row, std::span<const double> rows) = 0;
+  // Completes the file; until then it is not a valid result.
+  virtual void finish() = 0;
+};
+using MatrixWriterFactory = std::unique_ptr<MatrixWriter> (*)(const std::string& path, std::size_t rows,
+                                                              std::size_t columns);
+extern const std::span<const Format<MatrixWriterFactory>> kMatrixFormats;  // .npy .npz .csv
+
+// %.17g round-trips every double; unreachable is written "inf" on every platform.
+void print_distance(std::FILE* file, double distance);
+std::string format_distance(double distance);
+std::string format_number(const char* format, double value);
+// The nearest-source label as written: -1 for kNoSource.
+long long label_value(std::uint32_t label);
+
+// Name-value rows, names aligned: the text summaries.
+using Rows = std::vector<std::pair<std::string, std::string>>;
+void print_table(const Rows& rows);
+
+void write_json(const std::string& path, const nlohmann::ordered_json& json);
+
+}  // namespace exactgeo::cli

@@ -1,0 +1,67 @@
+// exactgeo path: the shortest path from the nearest source to one target, written as a file or printed.
+#include <cstdio>
+#include <memory>
+
+#include "command.hpp"
+#include "inputs.hpp"
+#include "outputs.hpp"
+
+namespace exactgeo::cli {
+namespace {
+
+struct PathArguments {
+  MeshArguments mesh;
+  SourceArguments sources;
+  std::string target;
+  std::string out;
+};
+
+int run_path(const PathArguments& arguments) {
+  const LoadedMesh loaded = load_mesh(arguments.mesh);
+  const exactgeo::Mesh& mesh = loaded.mesh;
+  const Sources sources = read_sources(arguments.sources, mesh);
+  const std::vector<exactgeo::SurfacePoint> targets = parse_targets(arguments.target, mesh, "--target");
+  if (targets.size() != 1)
+    throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                          "--target takes one vertex or point, not " + std::to_string(targets.size()));
+  exactgeo::GeodesicSolver solver(mesh);
+  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, {});
+  const exactgeo::GeodesicPath path = solver.path_to_target(0);
+  if (!arguments.out.empty()) {
+    const PathWriter write = find_format(kPathFormats, arguments.out)->write;
+    write_file(arguments.out, [&](std::FILE* file) { write(file, path); });
+  }
+  if (path.points.empty()) {
+    std::printf("target unreachable from every source\n");
+    return kExitOk;
+  }
+  if (arguments.out.empty()) {
+    print_table({{"mesh", arguments.mesh.name},
+                 {"distance", format_number("%.17g", result.target_distances[0])},
+                 {"path length", format_number("%.17g", path.length)},
+                 {"points", std::to_string(path.points.size())},
+                 {"nearest source", std::to_string(path.source)}});
+    for (const auto& p : path.points) std::printf("%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_path_command(CLI::App& app) {
+  auto arguments = std::make_shared<PathArguments>();
+  CLI::App* command = app.add_subcommand("path", "Shortest path from the nearest source to a target");
+  add_mesh_options(*command, arguments->mesh);
+  add_source_options(*command, arguments->sources);
+  command->add_option("--target", arguments->target, "Target vertex index or point F:b0,b1,b2")
+      ->required()
+      ->type_name("I|F:b0,b1,b2");
+  add_output_option(*command, "--out", arguments->out,
+                    "Write the path: .csv (x,y,z and where each point lies), .obj (a polyline) or .json; without "
+                    "it the points are printed",
+                    kPathFormats, "path");
+  command->footer(kExitCodesHelp);
+  return {command, [arguments] { return run_path(*arguments); }};
+}
+
+}  // namespace exactgeo::cli

@@ -1,0 +1,37 @@
+// The library's result structs as JSON and as summary rows, generated from their field tables
+// (for_each_stats_field, for_each_report_field) so that a new field shows up without a change here.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "exactgeo/exactgeo.hpp"
+#include "outputs.hpp"
+
+namespace exactgeo::cli {
+
+// Phase times that were not measured (`timed` false) are null, not a misleading zero.
+inline nlohmann::ordered_json stats_json(const exactgeo::GeodesicStats& stats, bool timed) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  exactgeo::for_each_stats_field([&](const char* name, auto member, exactgeo::StatsFieldKind kind, const char*) {
+    json[name] = kind == exactgeo::StatsFieldKind::phase_seconds && !timed ? nlohmann::ordered_json()
+                                                                          : nlohmann::ordered_json(stats.*member);
+  });
+  return json;
+}
+
+inline nlohmann::ordered_json report_json(const exactgeo::MeshReport& report) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  exactgeo::for_each_report_field([&](const char* name, auto member, const char*) { json[name] = report.*member; });
+  return json;
+}
+
+inline Rows report_rows(const exactgeo::MeshReport& report) {
+  Rows rows;
+  exactgeo::for_each_report_field(
+      [&](const char* name, auto member, const char*) { rows.emplace_back(name, std::to_string(report.*member)); });
+  return rows;
+}
+
+}  // namespace exactgeo::cli
