@@ -10,7 +10,7 @@ kRepoRoot = Path(__file__).resolve().parent.parent
 @pytest.fixture(scope="session")
 def exactgeo_with_variants() -> Path:
     """The built exactgeo CLI, if it offers the paper's variants; the test is skipped otherwise."""
-    from paper import missing_cli_options
+    from solvers.commands import missing_cli_options
 
     exactgeo = kRepoRoot / "build" / "cli" / "exactgeo"
     if not exactgeo.exists():

@@ -15,31 +15,15 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
-import os
-import subprocess
-import time
 from pathlib import Path
 
-import numpy as np
-
 from meshes import prepare_meshes
-from run import choose_sources, machine_info
+from reports.machine import machine_info
+from reports.many_sources import write_markdown
+from solvers.many_sources import measure_many_sources
+from solvers.runner import choose_sources
 
 kBenchDir = Path(__file__).resolve().parent
-
-
-def timed(command: list[str]) -> float:
-    start = time.perf_counter()
-    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - start
-
-
-def propagation_seconds(exactgeo: Path, mesh: Path, sources: list[int], stats: Path) -> float:
-    command = [str(exactgeo), "distance", str(mesh), "--stats", str(stats), "--out", str(stats.with_suffix(".npy"))]
-    for source in sources:
-        command += ["--source", str(source)]
-    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-    return json.loads(stats.read_text())["propagation_seconds"]
 
 
 def main() -> None:
@@ -54,60 +38,14 @@ def main() -> None:
     exactgeo = (args.build_dir / "cli" / "exactgeo").resolve()
     mesh = next(m for m in prepare_meshes(args.mesh_dir.resolve(), args.work_dir.resolve(), {}) if m.name == args.mesh)
     sources = choose_sources(mesh, args.sources, seed=1)
-    run_dir = args.work_dir.resolve() / "runs" / "many-sources"
-    run_dir.mkdir(parents=True, exist_ok=True)
-    source_list = ",".join(str(s) for s in sources)
-
-    cores = os.cpu_count() or 1
-    matrix_seconds, matrices = {}, {}
-    for threads in sorted({1, cores}):
-        out = run_dir / f"matrix-{threads}.npy"
-        matrix_seconds[threads] = timed([str(exactgeo), "matrix", str(mesh.obj_path), "--sources", source_list,
-                                         "--threads", str(threads), "--quiet", "--out", str(out)])
-        matrices[threads] = np.load(out)
-    rows_agree = all(np.array_equal(matrices[1], m, equal_nan=True) for m in matrices.values())
-
-    single = [propagation_seconds(exactgeo, mesh.obj_path, [s], run_dir / f"single-{s}.json") for s in sources]
-    multi = propagation_seconds(exactgeo, mesh.obj_path, sources, run_dir / "multi.json")
-    nearest = np.load(run_dir / "multi.npy")
-    minimum = matrices[1].min(axis=0)
-    finite = np.isfinite(minimum)
-    min_error = float(np.max(np.abs(nearest[finite] - minimum[finite])) / np.max(minimum[finite]))
-
     report = {
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "machine": machine_info(),
-        "mesh": mesh.name, "faces": mesh.face_count, "sources": sources,
-        "matrix_wall_seconds": matrix_seconds,
-        "matrix_speedup": matrix_seconds[1] / matrix_seconds[cores],
-        "matrix_rows_identical_across_threads": rows_agree,
-        "single_source_propagation_seconds": single,
-        "multi_source_propagation_seconds": multi,
-        "multi_vs_singles": sum(single) / multi,
-        "multi_source_vs_min_of_rows_relative_error": min_error,
+        **measure_many_sources(exactgeo, mesh, sources, args.work_dir.resolve() / "runs" / "many-sources"),
     }
     args.results_dir.mkdir(parents=True, exist_ok=True)
     (args.results_dir / "many-sources.json").write_text(json.dumps(report, indent=1))
-    lines = [
-        f"# Many sources on {mesh.name} ({mesh.face_count:,} faces), {len(sources)} sources",
-        "",
-        f"{report['date']} · {report['machine']['cpu_model']}, {cores} logical cores · `python3 bench/many_sources.py`",
-        "",
-        "| what | time | ratio |",
-        "|---|---:|---:|",
-        f"| `exactgeo matrix`, 1 thread (wall) | {matrix_seconds[1]:.3f} s | 1x |",
-        f"| `exactgeo matrix`, {cores} threads (wall) | {matrix_seconds[cores]:.3f} s | "
-        f"{report['matrix_speedup']:.2f}x faster |",
-        f"| {len(sources)} single-source runs (propagation, summed) | {sum(single):.3f} s | 1x |",
-        f"| one run from all {len(sources)} sources (propagation) | {multi:.3f} s | "
-        f"{report['multi_vs_singles']:.2f}x faster |",
-        "",
-        f"Matrix rows identical across thread counts: {'yes' if rows_agree else 'NO'}. Multi-source distances "
-        f"against the minimum of the matrix rows: max relative error {min_error:.1e}.",
-        "",
-    ]
-    (args.results_dir / "many-sources.md").write_text("\n".join(lines))
-    print("\n".join(lines))
+    print(write_markdown(args.results_dir / "many-sources.md", report))
 
 
 if __name__ == "__main__":

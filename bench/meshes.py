@@ -23,6 +23,10 @@ class BenchMesh:
     face_count: int
 
 
+# 1-to-4 midpoint subdivisions of the workhorse mesh, 400K and 1.6M faces: (base mesh, levels).
+kSubdivided = {"nefertiti-sub1": ("nefertiti", 1), "nefertiti-sub2": ("nefertiti", 2)}
+
+
 def read_obj(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """Positions (V, 3) float64 and fan-triangulated faces (F, 3) int32 of an OBJ file."""
     positions: list[list[float]] = []
@@ -133,6 +137,19 @@ def prepare_meshes(mesh_dir: Path, work_dir: Path, subdivided: dict[str, tuple[s
     return sorted(meshes.values(), key=lambda mesh: (mesh.face_count, mesh.name))
 
 
+def select_meshes(mesh_dir: Path, work_dir: Path, names: list[str] | None,
+                  subdivided: dict[str, tuple[str, int]]) -> list[BenchMesh]:
+    """prepare_meshes limited to `names` (None: every one); ValueError for a name that is none of them."""
+    meshes = prepare_meshes(mesh_dir, work_dir,
+                            {name: spec for name, spec in subdivided.items() if not names or name in names})
+    if not names:
+        return meshes
+    unknown = set(names) - {mesh.name for mesh in meshes}
+    if unknown:
+        raise ValueError(f"no mesh named {', '.join(sorted(unknown))} in {mesh_dir}")
+    return [mesh for mesh in meshes if mesh.name in names]
+
+
 def _cached_arrays(name, obj_path, cache, inputs, generate) -> BenchMesh:
     vertices_path = cache / f"{name}.vertices.npy"
     triangles_path = cache / f"{name}.triangles.npy"
@@ -162,6 +179,12 @@ def anisotropy(positions: np.ndarray, triangles: np.ndarray) -> float:
     with np.errstate(divide="ignore"):
         quality = 0.5 * lengths.sum(axis=1) * lengths.max(axis=1) / (2 * np.sqrt(3) * areas)
     return float(quality.mean())
+
+
+def surface_area(positions: np.ndarray, triangles: np.ndarray) -> float:
+    corners = positions[triangles]
+    return float(0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]),
+                                      axis=1).sum())
 
 
 def ridged_height(x: np.ndarray, y: np.ndarray) -> np.ndarray:

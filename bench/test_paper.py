@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 import paper
-from paper import Configuration
+from reports import variants
+from solvers import runner
+from solvers.commands import Configuration, PeerSolver, all_configurations, kAlgorithms, variant_solver
 
 kMeshDir = Path(__file__).resolve().parent.parent.parent / "shared" / "meshes"
 
@@ -22,7 +24,7 @@ def test_configurations_name_their_switched_off_rules_and_pass_the_matching_flag
 
 
 def test_every_variant_runs_with_each_rule_off_and_vtp_and_ftp_also_with_both_off():
-    names = [c.name for c in paper.all_configurations()]
+    names = [c.name for c in all_configurations()]
     assert len(names) == len(set(names)) == 4 * 3 + 2
     assert "vtp-no-rule1-no-rule23" in names and "ftp-no-rule1-no-rule23" in names
     assert "opvtp-no-rule1-no-rule23" not in names
@@ -33,20 +35,20 @@ def test_savings_are_what_the_rule_takes_off_the_run_without_it():
     table = {("m", "vtp"): {"seconds": 3.0, "fastest_seconds": 2.0, "window_propagations": 50},
              ("m", "vtp-no-rule1"): {"seconds": 4.0, "fastest_seconds": 4.0, "window_propagations": 100},
              ("m", "vtp-no-rule23"): {"seconds": 2.0, "fastest_seconds": 1.0, "window_propagations": 50}}
-    savings = paper.ablation_savings(table, "m", "vtp")
+    savings = variants.ablation_savings(table, "m", "vtp")
     assert savings == {"rule1_time_saving": 0.25, "rule1_fastest_time_saving": 0.5, "rule1_propagation_saving": 0.5,
                        "rule23_time_saving": -0.5, "rule23_fastest_time_saving": -1.0,
                        "rule23_propagation_saving": 0.0}
-    assert paper.ablation_savings(table, "m", "ftp")["rule1_time_saving"] is None
+    assert variants.ablation_savings(table, "m", "ftp")["rule1_time_saving"] is None
 
 
 def test_summary_skips_missing_values():
-    assert paper.summary([None, 1.0, 3.0]) == {"mean": 2.0, "min": 1.0, "max": 3.0, "count": 2}
-    assert paper.summary([None]) is None
+    assert variants.summary([None, 1.0, 3.0]) == {"mean": 2.0, "min": 1.0, "max": 3.0, "count": 2}
+    assert variants.summary([None]) is None
 
 
 def test_paper_table3_ratios_match_the_published_numbers():
-    summary = paper.paper_table3_summary()
+    summary = variants.paper_table3_summary()
     # Bunny: FTP 1.044 s against VTP 0.78 s; Lucy: 617.343 s against 549.934 s.
     assert summary["ftp_time_ratio"]["max"] == pytest.approx(13.223 / 9.495)
     assert summary["ftp_time_ratio"]["min"] == pytest.approx(617.343 / 549.934)
@@ -62,19 +64,19 @@ def test_exactness_check_flags_a_variant_that_differs_or_failed_but_only_reports
     reference = np.array([0.0, 1.0, 2.0, np.inf])
     distances = {"vtp": reference, "ftp": reference + [0, 1e-13, 0, 0], "opvtp": reference + [0, 0, 1e-6, 0],
                  "heat": reference + [0, 0.1, 0, 0]}
-    solvers = {name: paper.variant_solver(Configuration(name), Path("exactgeo")) for name in paper.kAlgorithms}
-    solvers["heat"] = paper.run.PeerSolver("heat", "heat", False)
+    solvers = {name: variant_solver(Configuration(name), Path("exactgeo")) for name in kAlgorithms}
+    solvers["heat"] = PeerSolver("heat", "heat", False)
     for name, values in distances.items():
         (tmp_path / name).mkdir()
         np.save(tmp_path / name / "s0.distances.npy", values)
     records = [fake_record(name) for name in distances] + [fake_record("opftp", status="failed")]
-    paper.check_exactness(records, solvers, tmp_path)
+    runner.check_exactness(records, solvers, tmp_path)
     checks = {r["solver"]: r["exactness"] for r in records}
     assert checks["vtp"]["agrees"] and checks["vtp"]["max_relative_error"] == 0
     assert checks["ftp"]["agrees"] and checks["ftp"]["max_relative_error"] == pytest.approx(0.5e-13)
     assert not checks["opvtp"]["agrees"]
     assert not checks["heat"]["agrees"] and not checks["heat"]["judged"]
-    failures = paper.exactness_failures(records)
+    failures = runner.exactness_failures(records)
     assert len(failures) == 2
     assert failures[0].startswith("m opvtp: max relative difference 5.00e-07")
     assert failures[1] == "m opftp: crashed (SIGSEGV)"

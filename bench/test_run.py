@@ -1,7 +1,8 @@
-"""Tests of the benchmark runner's command line (python3 -m pytest bench)."""
+"""Tests of run.py's command line and of its report's scaling fit (python3 -m pytest bench)."""
 
 import os
 
+from reports.peers import log_log_slope
 from run import parse_args
 
 
@@ -20,7 +21,5 @@ def test_relative_paths_become_absolute_so_runs_in_other_directories_find_the_bi
 
 
 def test_log_log_slope_recovers_the_exponent_of_a_power_law():
-    from run import log_log_slope
-
     assert abs(log_log_slope([(10.0, 3 * 10.0**1.5), (1000.0, 3 * 1000.0**1.5), (4e5, 3 * 4e5**1.5)]) - 1.5) < 1e-12
     assert log_log_slope([(10.0, 1.0)]) is None  # one point fixes no slope
