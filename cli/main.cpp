@@ -11,6 +11,7 @@
 #include "command.hpp"
 #include "exactgeo/error.hpp"
 #include "exactgeo/version.hpp"
+#include "outputs.hpp"
 
 namespace {
 
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
     return usage_error(e.what());
   }
 
+  remove_unfinished_outputs_on_interrupt();
   try {
     for (const Command& command : commands)
       if (command.app->parsed()) return command.run();

@@ -86,6 +86,10 @@ class OutputFile {
   bool committed_ = false;
 };
 
+// On SIGINT, SIGTERM or SIGHUP, removes the temporary files of unfinished outputs before the process ends
+// as the signal would end it: an interrupted run leaves neither a partial result nor litter.
+void remove_unfinished_outputs_on_interrupt();
+
 // Lets `write` fill `path` through an OutputFile.
 void write_file(const std::string& path, const std::function<void(std::FILE*)>& write);
 

@@ -8,6 +8,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -614,6 +615,56 @@ TEST_F(Cli, SampleSpreadsOutFromTheFirstVertex) {
   expect_error(run("sample @icosphere:2 -k 3 --first 9999"), 2, "9999");
   expect_error(run("matrix @icosphere:2 --sources 1,x --out " + arg("m.npy")), 2, "'x'");
   expect_error(run("matrix @icosphere:2 --sources 1 --out " + arg("m.txt")), 1, "m.txt");
+}
+
+// Everything is checked before an output is touched, and files are written beside their destination and
+// renamed when complete: a failed run leaves an existing file as it was and no temporary file behind.
+TEST_F(Cli, FailedRunsLeaveExistingOutputsUntouched) {
+  const std::string kept = "an earlier result\n";
+  for (const char* name : {"d.txt", "d.npy", "d.ply", "m.npy", "m.npz", "m.csv", "p.json", "s.csv"}) write_file(path(name), kept);
+  expect_error(run("distance @icosphere:2 --source 9999 --out " + arg("d.txt")), 2, "9999");
+  expect_error(run("distance @icosphere:2 --source 0 --targets 9999 --out " + arg("d.npy")), 2, "9999");
+  expect_error(run("distance @icosphere:2 --source 0 --source-point 999:0.2,0.3,0.5 --out " + arg("d.ply")), 2, "999");
+  for (const char* name : {"m.npy", "m.npz", "m.csv"})
+    expect_error(run("matrix @icosphere:2 --sources 1,2,9999 --out " + arg(name)), 2, "9999");
+  expect_error(run("path @icosphere:2 --source 0 --target 9999 --out " + arg("p.json")), 2, "9999");
+  expect_error(run("sample @icosphere:2 -k 3 --first 9999 --out " + arg("s.csv")), 2, "9999");
+  for (const char* name : {"d.txt", "d.npy", "d.ply", "m.npy", "m.npz", "m.csv", "p.json", "s.csv"})
+    EXPECT_EQ(read_file(path(name)), kept) << name;
+  for (const auto& entry : fs::directory_iterator(path("")))
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
+}
+
+// SIGINT, SIGTERM or SIGHUP in the middle of a run ends it at once, as the signal would, and removes the
+// unfinished output: nothing is left that could be loaded as a result.
+TEST_F(Cli, InterruptedRunsLeaveNoOutput) {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    std::string sources;
+    for (int s = 0; s < 2000; ++s) sources += (s ? "," : "") + std::to_string(s);
+    const std::string out = path("m.npy").string();
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      std::freopen("/dev/null", "w", stderr);
+      ::execl(EXACTGEO_CLI_PATH, "exactgeo", "matrix", "@icosphere:6", "--sources", sources.c_str(), "--threads", "1",
+              "--out", out.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    // Interrupt once the output is being written (the temporary file exists), at most after 60 s.
+    const auto partial_exists = [&] {
+      for (const auto& entry : fs::directory_iterator(path("")))
+        if (entry.path().filename().string().find(".partial") != std::string::npos) return true;
+      return false;
+    };
+    for (int waited = 0; waited < 6000 && !partial_exists(); ++waited) ::usleep(10000);
+    EXPECT_TRUE(partial_exists()) << "the run never started writing";
+    ::kill(child, signal_number);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == signal_number) << "signal " << signal_number;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(partial_exists()) << "signal " << signal_number;
+  }
 }
 
 TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
