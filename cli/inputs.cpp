@@ -147,8 +147,7 @@ void add_source_options(CLI::App& command, SourceArguments& sources) {
   // A vertex index is a plain decimal number; whether it exists is up to the mesh.
   const CLI::Validator vertex_check(
       [](std::string& text) -> std::string {
-        if (text.empty() || !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
-          return "'" + text + "' is not a vertex index";
+        if (!count_check()(text).empty()) return "'" + text + "' is not a vertex index";
         return {};
       },
       "", "source");
@@ -278,6 +277,17 @@ const CLI::Validator& distance_check() {
         return {};
       },
       "", "distance");
+  return check;
+}
+
+const CLI::Validator& count_check() {
+  static const CLI::Validator check(
+      [](std::string& text) -> std::string {
+        if (text.empty() || !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
+          return "'" + text + "' is not a whole number";
+        return {};
+      },
+      "", "count");
   return check;
 }
 

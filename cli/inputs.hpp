@@ -65,5 +65,7 @@ std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std:
 
 // A check for options taking a distance: a number, not negative.
 const CLI::Validator& distance_check();
+// A check for options taking a count: digits only, so that "-1" is an error rather than a huge number.
+const CLI::Validator& count_check();
 
 }  // namespace exactgeo::cli

@@ -53,7 +53,9 @@ Command add_matrix_command(CLI::App& app) {
   command->add_option("--max-distance", arguments->max_distance, "Cut-off: entries beyond it are inf (or left out)")
       ->check(distance_check())
       ->type_name("R");
-  command->add_option("--threads", arguments->threads, "Worker threads (default: one per core)")->type_name("T");
+  command->add_option("--threads", arguments->threads, "Worker threads (default: one per core; never more than sources)")
+      ->check(count_check())
+      ->type_name("T");
   add_output_option(*command, "--out", arguments->out,
                     "Write the matrix (rows: sources, columns: vertices): .npy (dense float64), .npz (scipy.sparse "
                     "CSR of the finite entries) or .csv (source,vertex,distance, finite entries)",

@@ -41,8 +41,8 @@ Command add_sample_command(CLI::App& app) {
   auto arguments = std::make_shared<SampleArguments>();
   CLI::App* command = app.add_subcommand("sample", "Geodesic farthest-point sampling of the vertices");
   add_mesh_options(*command, arguments->mesh);
-  command->add_option("-k,--count", arguments->count, "Number of samples")->required()->type_name("N");
-  command->add_option("--first", arguments->first, "The first sample (default 0)")->type_name("I");
+  command->add_option("-k,--count", arguments->count, "Number of samples")->required()->check(count_check())->type_name("N");
+  command->add_option("--first", arguments->first, "The first sample (default 0)")->check(count_check())->type_name("I");
   add_output_option(*command, "--out", arguments->out,
                     "Write the samples: .txt (one vertex per line), .csv (sample,vertex,radius: the distance to "
                     "the samples before) or .npy (int64); without it they are printed",

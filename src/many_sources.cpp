@@ -22,7 +22,9 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
     throw Error(ErrorCode::invalid_argument, "max_distance must be a non-negative number");
   for (std::uint32_t v : source_vertices) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
   const std::size_t columns = mesh.vertex_count();
-  const unsigned threads = std::max(1u, options.threads ? options.threads : std::thread::hardware_concurrency());
+  // More threads than rows would only hold idle solvers (each as large as the mesh).
+  const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(
+      options.threads ? options.threads : std::thread::hardware_concurrency(), 1, std::max<std::size_t>(1, source_vertices.size())));
   const std::size_t block_rows = std::max<std::size_t>(1, options.block_rows ? options.block_rows : 4 * threads);
   std::vector<double> block;
   std::vector<GeodesicSolver> solvers;

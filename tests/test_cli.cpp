@@ -613,6 +613,9 @@ TEST_F(Cli, SampleSpreadsOutFromTheFirstVertex) {
   // The second sample on a sphere is the antipode: half the great circle, a bit less on the polyhedron.
   EXPECT_LT(previous, kInf);
   expect_error(run("sample @icosphere:2 -k 3 --first 9999"), 2, "9999");
+  expect_error(run("sample @icosphere:2 -k -1"), 1, "-1");  // not every vertex, as a wrapped count would give
+  expect_error(run("sample @icosphere:2 -k 3 --out " + arg("s.ply")), 1, "s.ply");  // not text under a .ply name
+  expect_error(run("matrix @icosphere:2 --sources 1 --threads -2 --out " + arg("m.npy")), 1, "-2");
   expect_error(run("matrix @icosphere:2 --sources 1,x --out " + arg("m.npy")), 2, "'x'");
   expect_error(run("matrix @icosphere:2 --sources 1 --out " + arg("m.txt")), 1, "m.txt");
 }

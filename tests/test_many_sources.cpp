@@ -40,6 +40,15 @@ TEST(DistanceMatrix, RowsAreSingleSourceRunsWhateverTheThreadsAndBlocks) {
   }
 }
 
+// A thread count beyond the sources is capped at them: a solver per requested thread (each as large as the
+// mesh) would run out of memory long before 2^31 threads, and the extra ones would have no work anyway.
+TEST(DistanceMatrix, ThreadsAreCappedAtTheWorkAvailable) {
+  const Mesh& mesh = torus();
+  const std::vector<std::uint32_t> sources = {0, 17};
+  const std::vector<double> capped = exactgeo::distance_matrix(mesh, sources, {.geodesic = {}, .threads = 1u << 31});
+  EXPECT_EQ(capped, exactgeo::distance_matrix(mesh, sources, {.geodesic = {}, .threads = 1}));
+}
+
 TEST(DistanceMatrix, IsSymmetricBetweenSources) {
   const Mesh& mesh = torus();
   const std::vector<std::uint32_t> sources = {3, 77, 150, 290};
