@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "exactgeo/error.hpp"
+#include "stop.hpp"
 #include "surface_point.hpp"
 
 namespace exactgeo {
@@ -39,6 +40,7 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
     const auto work = [&](GeodesicSolver& solver) {
       try {
         for (std::size_t r; (r = next.fetch_add(1)) < rows;) {
+          detail::throw_if_stopped(options.geodesic.stop);
           const std::uint32_t source = source_vertices[first + r];
           const GeodesicResult& result = solver.solve(std::span(&source, 1), {}, options.geodesic);
           std::copy(result.distances.begin(), result.distances.end(), block.begin() + static_cast<std::ptrdiff_t>(r * columns));
@@ -84,33 +86,40 @@ SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::ui
   return sparse;
 }
 
-Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first,
+Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::span<const std::uint32_t> first_samples,
                                  const GeodesicOptions& options, const std::function<void(std::size_t)>& progress) {
+  if (first_samples.empty()) throw Error(ErrorCode::invalid_argument, "no first sample given");
+  for (std::uint32_t v : first_samples) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
   Sampling sampling;
   if (count == 0) return sampling;
   GeodesicSolver solver(mesh);
-  sampling.samples.push_back(first);
+  sampling.samples.push_back(first_samples[0]);
   sampling.radii.push_back(HUGE_VAL);
-  const GeodesicResult& start = solver.solve(std::span(&first, 1), {}, options);
+  const GeodesicResult& start = solver.solve(first_samples.first(1), {}, options);
   sampling.distances = start.distances;
   sampling.nearest_sample.assign(mesh.vertex_count(), kNoSource);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
     if (!std::isinf(sampling.distances[v])) sampling.nearest_sample[v] = 0;
   if (progress) progress(1);
   while (sampling.samples.size() < count) {
-    // The farthest vertex from the samples; nothing farther than it can get closer to the next sample's run.
-    std::uint32_t farthest = kNoSource;
-    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
-      if (!std::isinf(sampling.distances[v]) &&
-          (farthest == kNoSource || sampling.distances[v] > sampling.distances[farthest]))
-        farthest = v;
-    if (farthest == kNoSource || sampling.distances[farthest] == 0) break;  // every reachable vertex is a sample
+    detail::throw_if_stopped(options.stop);
+    // The given first samples in their order, then the farthest vertex from the samples so far; either way,
+    // nothing farther than the next sample's current distance can get closer to it.
+    std::uint32_t next = kNoSource;
+    if (sampling.samples.size() < first_samples.size()) {
+      next = first_samples[sampling.samples.size()];
+    } else {
+      for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+        if (!std::isinf(sampling.distances[v]) && (next == kNoSource || sampling.distances[v] > sampling.distances[next]))
+          next = v;
+      if (next == kNoSource || sampling.distances[next] == 0) break;  // every reachable vertex is a sample
+    }
     GeodesicOptions cut = options;
-    cut.max_distance = std::min(options.max_distance, sampling.distances[farthest]);
-    const GeodesicResult& run = solver.solve(std::span(&farthest, 1), {}, cut);
+    cut.max_distance = std::min(options.max_distance, sampling.distances[next]);
+    const GeodesicResult& run = solver.solve(std::span(&next, 1), {}, cut);
     const auto index = static_cast<std::uint32_t>(sampling.samples.size());
-    sampling.samples.push_back(farthest);
-    sampling.radii.push_back(sampling.distances[farthest]);
+    sampling.samples.push_back(next);
+    sampling.radii.push_back(sampling.distances[next]);
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
       if (run.distances[v] < sampling.distances[v]) {
         sampling.distances[v] = run.distances[v];
@@ -120,6 +129,11 @@ Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint3
     if (progress) progress(sampling.samples.size());
   }
   return sampling;
+}
+
+Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first,
+                                 const GeodesicOptions& options, const std::function<void(std::size_t)>& progress) {
+  return farthest_point_sampling(mesh, count, std::span(&first, 1), options, progress);
 }
 
 }  // namespace exactgeo

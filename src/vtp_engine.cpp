@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "stop.hpp"
 #include "tolerances.hpp"
 
 namespace exactgeo::detail {
@@ -93,7 +94,7 @@ class PhaseTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// Vertex pops between two progress reports.
+// Vertex (or face) pops between two progress reports and checks for a stop request: a few milliseconds.
 constexpr std::uint64_t kProgressInterval = 4096;
 
 // The directions around v (as fan angles, see SurfaceMesh) into which a shortest path arriving at v as
@@ -182,8 +183,7 @@ void VtpEngine::run_vertex_sorted() {
     state_[v] = VertexState::inside;
     ++iteration_;
     ++stats_.vertex_pops;
-    if (progress_ && stats_.vertex_pops % kProgressInterval == 0)
-      progress_(static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
+    checkpoint(stats_.vertex_pops, static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
     if (bends_paths(v)) emit(v);
     for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
       const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
@@ -220,10 +220,16 @@ void VtpEngine::run_face_sorted() {
     }
     if (face_visited_at_[f] != kNone) continue;  // joined with a source's one-ring while queued
     ++stats_.face_pops;
-    if (progress_ && stats_.face_pops % kProgressInterval == 0)
-      progress_(static_cast<double>(stats_.face_pops) / mesh_.face_count());
+    checkpoint(stats_.face_pops, static_cast<double>(stats_.face_pops) / mesh_.face_count());
     join_face(f);
   }
+}
+
+// Every kProgressInterval pops: stops if the caller asked for it, else reports progress.
+void VtpEngine::checkpoint(std::uint64_t pops, double fraction) {
+  if (pops % kProgressInterval != 0) return;
+  throw_if_stopped(options_.stop);
+  if (progress_) progress_(fraction);
 }
 
 // Adds f to the traversed area in the current iteration: the lists waiting on its edges will cross it.

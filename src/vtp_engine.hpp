@@ -76,6 +76,7 @@ class VtpEngine {
 
   void run_vertex_sorted();
   void run_face_sorted();
+  void checkpoint(std::uint64_t pops, double fraction);
   void enter_face(std::uint32_t f);
   void join_face(std::uint32_t f);
   void start_point_source(std::uint32_t site);

@@ -121,6 +121,28 @@ TEST(FarthestPointSampling, EachSampleIsFarthestFromThePreviousOnes) {
   EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "samples repeat";
 }
 
+// Given first samples are taken in their order, each with its distance to those before as radius; from
+// the first samples of a plain run, the same run comes out, bit for bit.
+TEST(FarthestPointSampling, SeveralFirstSamplesContinueAsOneRunWould) {
+  const Mesh& mesh = torus();
+  const exactgeo::Sampling plain = exactgeo::farthest_point_sampling(mesh, 8, 5);
+  const std::vector<std::uint32_t> seeds(plain.samples.begin(), plain.samples.begin() + 3);
+  const exactgeo::Sampling seeded = exactgeo::farthest_point_sampling(mesh, 8, seeds);
+  EXPECT_EQ(seeded.samples, plain.samples);
+  EXPECT_EQ(seeded.radii, plain.radii);
+  EXPECT_EQ(seeded.distances, plain.distances);
+  EXPECT_EQ(seeded.nearest_sample, plain.nearest_sample);
+
+  const std::vector<std::uint32_t> chosen = {40, 7};
+  const exactgeo::Sampling from_chosen = exactgeo::farthest_point_sampling(mesh, 4, chosen);
+  ASSERT_EQ(from_chosen.samples.size(), 4u);
+  EXPECT_EQ(from_chosen.samples[0], 40u);
+  EXPECT_EQ(from_chosen.samples[1], 7u);
+  EXPECT_EQ(from_chosen.radii[1], exactgeo::geodesic_distance(mesh, 40).distances[7]);
+  const std::vector<std::uint32_t> invalid = {3, 100000};
+  EXPECT_THROW(exactgeo::farthest_point_sampling(mesh, 4, invalid), exactgeo::Error);
+}
+
 TEST(FarthestPointSampling, StopsWhenEveryVertexIsASample) {
   const Mesh mesh(exactgeo::make_icosphere(0));  // 12 vertices
   EXPECT_EQ(exactgeo::farthest_point_sampling(mesh, 50).samples.size(), 12u);

@@ -10,6 +10,7 @@ enum class ErrorCode {
   invalid_argument,  // a caller-supplied value is out of range (source index, option value)
   invalid_mesh,      // arrays or file contents that do not describe a usable triangle mesh
   io_error,          // a file that cannot be opened, read or written
+  cancelled,         // the caller stopped the run (GeodesicOptions::stop)
   internal,          // a broken invariant inside the library: a bug, please report it
 };
 

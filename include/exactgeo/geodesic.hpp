@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <stop_token>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -54,6 +55,9 @@ struct GeodesicOptions {
   // clock reads around every list crossing slow the run down (by up to 60% measured), so this is
   // off unless asked for.
   bool collect_timings = false;
+  // A run whose token is stopped (std::stop_source::request_stop, from any thread) ends within a few
+  // milliseconds by throwing exactgeo::Error(cancelled). Distance matrices and sampling pass it to every run.
+  std::stop_token stop{};
 };
 
 // What a run did: the counts as the paper defines them (Section 6.2) and the time. A propagation is prime if

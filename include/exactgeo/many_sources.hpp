@@ -55,5 +55,10 @@ struct Sampling {
 Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first = 0,
                                  const GeodesicOptions& options = {},
                                  const std::function<void(std::size_t samples)>& progress = {});
+// The same from several given first samples, taken in their order (each one's radius its distance to the
+// ones before), then farthest points. A seed sampled twice gets radius 0.
+Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::span<const std::uint32_t> first_samples,
+                                 const GeodesicOptions& options = {},
+                                 const std::function<void(std::size_t samples)>& progress = {});
 
 }  // namespace exactgeo

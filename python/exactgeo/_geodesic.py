@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Literal, TypedDict, overload
+import threading
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, Literal, TypedDict, overload
 
 import numpy as np
 
 from . import _core, _inputs
-from ._mesh import Mesh
+from ._mesh import Mesh, checked_mesh
+from ._progress import Progress, run_with_progress
 from ._surface_point import SurfacePoint, SurfacePoints, Sites, source_sites, target_points
 
 if TYPE_CHECKING:
@@ -79,13 +82,15 @@ class GeodesicSolver:
     """A reusable solver on one mesh (C++: exactgeo::GeodesicSolver): keeps the engine's buffers between
     runs, and answers path queries about its last run.
 
-    The GIL is released while it runs, so solvers in several threads run in parallel; one solver used from
-    several threads runs one call at a time.
+    The GIL is released while it runs, so solvers in several threads run in parallel. Use one solver per
+    thread: one solver used from several threads runs one call at a time, and a path query after another
+    thread's solve() raises RuntimeError rather than answer about that other run.
     """
 
     def __init__(self, mesh: Mesh) -> None:
-        self._mesh = mesh
+        self._mesh = checked_mesh(mesh)
         self._core = _core.GeodesicSolver(mesh._core)
+        self._last_run = threading.local()  # per thread: the number of its last run, for path queries
 
     @property
     def mesh(self) -> Mesh:
@@ -97,6 +102,7 @@ class GeodesicSolver:
         targets: Sites | None = None,
         *,
         max_distance: float | None = None,
+        progress: Progress = None,
         **options: Unpack[AlgorithmOptions],
     ) -> GeodesicResult:
         """Distances from the nearest of `sources` to every vertex, and to `targets` if given.
@@ -106,27 +112,36 @@ class GeodesicSolver:
         surface copies (non-manifold) is a source at each, so sources are either all vertices or all points.
         Targets may mix the two: a vertex target is the point at the vertex on its first face. With targets,
         the run stops as soon as they are final: vertex distances are then exact up to the farthest target
-        and inf beyond. `max_distance`: nothing farther is computed (inf).
+        and inf beyond. `max_distance`: nothing farther is computed (inf). `progress`: True for a tqdm bar,
+        or a function called with (thousandths of the mesh passed, 1000). Ctrl-C stops a run on a large
+        mesh within milliseconds.
         """
         config = geodesic_options(max_distance, options)
         ends = _NO_TARGETS if targets is None else target_points(targets, self._mesh)
         starts = source_sites(sources, self._mesh)
-        if isinstance(starts, SurfacePoints):
-            arrays = self._core.solve_from_points(
-                starts.faces, starts.barycentric, ends.faces, ends.barycentric, config
-            )
-        else:
-            arrays = self._core.solve_from_vertices(starts, ends.faces, ends.barycentric, config)
+
+        def run(reporter: object) -> tuple[Any, ...]:
+            if isinstance(starts, SurfacePoints):
+                return self._core.solve_from_points(
+                    starts.faces, starts.barycentric, ends.faces, ends.barycentric, config, reporter
+                )
+            return self._core.solve_from_vertices(starts, ends.faces, ends.barycentric, config, reporter)
+
+        *arrays, self._last_run.number = run_with_progress(progress, "distances", 1000, run)
         return GeodesicResult(*arrays)
+
+    def _run_number(self) -> int:
+        """This thread's last run; 0 before its first, which only a solver that never ran accepts."""
+        return getattr(self._last_run, "number", 0)
 
     def path_to_vertex(self, vertex: int) -> GeodesicPath:
         """The shortest path of the last run to input vertex `vertex`."""
         checked = _inputs.vertex_array(vertex, self._mesh.vertex_count, "vertex", lambda i: "vertex")
-        return GeodesicPath._of(self._core.path_to_vertex(int(checked[0])))
+        return GeodesicPath._of(self._core.path_to_vertex(int(checked[0]), self._run_number()))
 
     def path_to_target(self, target: int) -> GeodesicPath:
         """The shortest path of the last run to its target number `target`."""
-        return GeodesicPath._of(self._core.path_to_target(_inputs.count(target, "target")))
+        return GeodesicPath._of(self._core.path_to_target(_inputs.count(target, "target"), self._run_number()))
 
 
 @overload
@@ -137,6 +152,7 @@ def distance(
     targets: Sites | None = None,
     max_distance: float | None = None,
     return_nearest: Literal[False] = False,
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> np.ndarray: ...
 @overload
@@ -147,6 +163,7 @@ def distance(
     targets: Sites | None = None,
     max_distance: float | None = None,
     return_nearest: Literal[True],
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> tuple[np.ndarray, np.ndarray]: ...
 def distance(
@@ -156,6 +173,7 @@ def distance(
     targets: Sites | None = None,
     max_distance: float | None = None,
     return_nearest: bool = False,
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Exact geodesic distance from the nearest of `sources`: float64, inf where unreachable or cut off.
@@ -164,9 +182,9 @@ def distance(
     one distance per target, in their order; the run stops as soon as they are final, so a few nearby
     targets cost a fraction of a full run. `return_nearest=True` also returns, per vertex or target, the
     index of the nearest source (int64, -1 where the distance is inf). See GeodesicSolver.solve for the
-    forms sources and targets take.
+    forms sources and targets take, and for `progress`.
     """
-    result = GeodesicSolver(mesh).solve(sources, targets, max_distance=max_distance, **options)
+    result = GeodesicSolver(mesh).solve(sources, targets, max_distance=max_distance, progress=progress, **options)
     if targets is None:
         values, nearest = result.distances, result.nearest_source
     else:
@@ -174,21 +192,46 @@ def distance(
     return (values, nearest) if return_nearest else values
 
 
+@overload
 def path(
     mesh: Mesh,
     sources: Sites,
-    target: int | SurfacePoint,
+    target: int | np.integer | SurfacePoint,
     *,
     max_distance: float | None = None,
     **options: Unpack[AlgorithmOptions],
-) -> GeodesicPath:
-    """The shortest path from the nearest of `sources` to `target`, a vertex index or a SurfacePoint.
+) -> GeodesicPath: ...
+@overload
+def path(
+    mesh: Mesh,
+    sources: Sites,
+    target: Sequence[int] | np.ndarray | Sequence[SurfacePoint] | SurfacePoints,
+    *,
+    max_distance: float | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> list[GeodesicPath]: ...
+def path(
+    mesh: Mesh,
+    sources: Sites,
+    target: Sites,
+    *,
+    max_distance: float | None = None,
+    **options: Unpack[AlgorithmOptions],
+) -> GeodesicPath | list[GeodesicPath]:
+    """The shortest path from the nearest of `sources` to `target`, a vertex index or a SurfacePoint; for
+    several targets (a list or array of vertices, a list of SurfacePoints, SurfacePoints), a list of paths
+    in their order, all from one run.
 
     Its length equals the geodesic distance (to about 1e-12 relative); it bends only at saddle and boundary
-    vertices. The run stops once the target is final.
+    vertices. The run stops once the targets are final.
     """
     solver = GeodesicSolver(mesh)
     solver.solve(sources, target, max_distance=max_distance, **options)
     if isinstance(target, SurfacePoint):
         return solver.path_to_target(0)
-    return solver.path_to_vertex(target)
+    if isinstance(target, (int, np.integer)):
+        return solver.path_to_vertex(int(target))
+    if isinstance(target, SurfacePoints) or (isinstance(target, Sequence) and any(isinstance(t, SurfacePoint) for t in target)):
+        return [solver.path_to_target(i) for i in range(len(target))]
+    vertices = _inputs.vertex_array(target, mesh.vertex_count, "target", lambda i: f"target {i}: vertex")
+    return [solver.path_to_vertex(int(v)) for v in vertices]

@@ -92,14 +92,16 @@ def vertex_array(vertices: object, vertex_count: int, what: str, name: Callable[
     )
 
 
-def count(value: int, what: str, minimum: int = 0) -> int:
-    """A whole number of things (samples, threads), at least `minimum`."""
+def count(value: int, what: str, minimum: int = 0, maximum: int = INDEX_LIMIT - 1) -> int:
+    """A whole number of things (samples, threads, a target's number), from `minimum` to `maximum`."""
     try:
         number = operator.index(value)
     except TypeError:
         raise ValueError(f"{what} must be an integer, not {value!r}") from None
     if number < minimum:
         raise ValueError(f"{what} must be at least {minimum}, not {number}")
+    if number > maximum:
+        raise ValueError(f"{what} must be at most {maximum}, not {number}")
     return number
 
 

@@ -9,7 +9,8 @@ import numpy as np
 
 from . import _core, _inputs
 from ._geodesic import AlgorithmOptions, geodesic_options
-from ._mesh import Mesh
+from ._mesh import Mesh, checked_mesh
+from ._progress import Progress, run_with_progress
 from ._surface_point import VertexIndices
 
 if TYPE_CHECKING:
@@ -24,6 +25,7 @@ def distance_matrix(
     *,
     max_distance: None = None,
     threads: int | None = None,
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> np.ndarray: ...
 @overload
@@ -33,6 +35,7 @@ def distance_matrix(
     *,
     max_distance: float,
     threads: int | None = None,
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> csr_array: ...
 def distance_matrix(
@@ -41,6 +44,7 @@ def distance_matrix(
     *,
     max_distance: float | None = None,
     threads: int | None = None,
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> np.ndarray | csr_array:
     """Distances from each source vertex (rows) to every input vertex (columns).
@@ -50,19 +54,25 @@ def distance_matrix(
     an explicit entry); entries not stored are beyond the cut-off or unreachable. Each run stops at the
     cut-off, so a small radius costs a fraction of the dense matrix.
 
-    One source per thread, `threads` of them (default: one per core), with the GIL released; rows are
-    identical whatever the thread count.
+    One source per thread, `threads` of them (default: one per core, never more than the sources), with the
+    GIL released; rows are identical whatever the thread count. `progress`: True for a tqdm bar, or a
+    function called with (rows done, rows). Ctrl-C stops the work within milliseconds.
     """
+    mesh = checked_mesh(mesh)
     vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
     config = geodesic_options(max_distance, options)
-    workers = 0 if threads is None else _inputs.count(threads, "threads", minimum=1)  # 0: one per core
+    workers = 0 if threads is None else _inputs.count(threads, "threads", minimum=1, maximum=2**32 - 1)
     if max_distance is None:
-        return _core.distance_matrix(mesh._core, vertices, config, workers)
+        return run_with_progress(
+            progress, "rows", len(vertices), lambda r: _core.distance_matrix(mesh._core, vertices, config, workers, r)
+        )
     try:
         import scipy.sparse
     except ImportError:
         raise ImportError("a distance matrix with max_distance is a scipy.sparse matrix: pip install scipy") from None
-    values, columns, row_offsets = _core.sparse_distance_matrix(mesh._core, vertices, config, workers)
+    values, columns, row_offsets = run_with_progress(
+        progress, "rows", len(vertices), lambda r: _core.sparse_distance_matrix(mesh._core, vertices, config, workers, r)
+    )
     return scipy.sparse.csr_array((values, columns, row_offsets), shape=(len(vertices), mesh.vertex_count))
 
 
@@ -80,18 +90,25 @@ def farthest_point_sampling(
     mesh: Mesh,
     count: int,
     *,
-    first: int = 0,
+    first: VertexIndices = 0,
     max_distance: float | None = None,
+    progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> Sampling:
     """Geodesic farthest-point sampling: from `first`, each next sample is the vertex farthest from all
     samples so far (ties to the lowest index).
 
-    Stops early once every vertex reachable from `first` is a sample; vertices on other pieces of the mesh
-    are never sampled. Each run after the first stops at the current largest distance, so later samples
-    cost less.
+    `first` is one vertex or several, taken as the first samples in their order (each one's radius its
+    distance to those before). Stops early once every vertex reachable from them is a sample; vertices on
+    other pieces of the mesh are never sampled. Each run after the first stops at the current largest
+    distance, so later samples cost less. `progress`: True for a tqdm bar, or a function called with
+    (samples taken, count). Ctrl-C stops the work within milliseconds.
     """
-    taken = _inputs.count(count, "count")
+    mesh = checked_mesh(mesh)
+    taken = _inputs.count(count, "count", maximum=2**64 - 1)
     start = _inputs.vertex_array(first, mesh.vertex_count, "first", lambda i: "source vertex")
-    arrays = _core.farthest_point_sampling(mesh._core, taken, int(start[0]), geodesic_options(max_distance, options))
+    config = geodesic_options(max_distance, options)
+    arrays = run_with_progress(
+        progress, "samples", taken, lambda r: _core.farthest_point_sampling(mesh._core, taken, start, config, r)
+    )
     return Sampling(*arrays)

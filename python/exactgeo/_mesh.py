@@ -69,3 +69,13 @@ class Mesh:
 
     def __repr__(self) -> str:
         return f"exactgeo.Mesh(vertex_count={self.vertex_count}, face_count={self.face_count})"
+
+
+def checked_mesh(mesh: object, what: str = "mesh") -> Mesh:
+    """`mesh` itself if it is an exactgeo.Mesh; a TypeError saying how to make one otherwise."""
+    if isinstance(mesh, Mesh):
+        return mesh
+    raise TypeError(
+        f"{what} must be an exactgeo.Mesh, not {type(mesh).__name__}: build one with exactgeo.Mesh(vertices, faces) "
+        "or exactgeo.Mesh.load(path)"
+    )

@@ -15,7 +15,7 @@ from typing import Any, Union
 import numpy as np
 
 from . import _core, _inputs
-from ._mesh import Mesh
+from ._mesh import Mesh, checked_mesh
 
 
 @dataclasses.dataclass(frozen=True)
@@ -26,10 +26,18 @@ class SurfacePoint:
     barycentric: tuple[float, float, float] = (1.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        face = operator.index(self.face)
+        try:
+            face = operator.index(self.face)
+        except TypeError:
+            raise TypeError(f"SurfacePoint: face must be an integer face index, not {self.face!r}") from None
         if not 0 <= face < _inputs.INDEX_LIMIT:
             raise ValueError(f"SurfacePoint: face {face} is not a face index")
-        barycentric = tuple(float(c) for c in np.asarray(self.barycentric, dtype=np.float64).reshape(-1))
+        try:
+            barycentric = tuple(float(c) for c in np.asarray(self.barycentric, dtype=np.float64).reshape(-1))
+        except (TypeError, ValueError):
+            raise TypeError(
+                f"SurfacePoint: barycentric must be three real numbers, not {self.barycentric!r}"
+            ) from None
         if len(barycentric) != 3:
             raise ValueError(f"SurfacePoint: {len(barycentric)} barycentric coordinates, not 3")
         # Frozen: the normalized values go in the way dataclasses allow.
@@ -78,7 +86,7 @@ class SurfacePoints:
 
 
 # Vertex indices: one, or a list or array of any integer dtype.
-VertexIndices = Union[int, Sequence[int], np.ndarray]
+VertexIndices = Union[int, np.integer, Sequence[int], np.ndarray]
 # Where a geodesic run starts or what it asks about: vertices, or points anywhere on the surface.
 Sites = Union[VertexIndices, SurfacePoint, Sequence[SurfacePoint], SurfacePoints]
 
@@ -130,6 +138,7 @@ def _vertex_target(mesh: Mesh, index: int, vertex: int) -> SurfacePoint:
 
 def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
     """The point at input vertex `vertex`, on the first face that uses it."""
+    mesh = checked_mesh(mesh)
     vertices = _inputs.vertex_array(vertex, mesh.vertex_count, "vertex", lambda i: "vertex")
     faces, barycentric = _core.vertex_points(mesh._core, vertices, "")
     return SurfacePoint(int(faces[0]), tuple(barycentric[0]))
@@ -137,6 +146,7 @@ def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
 
 def edge_point(mesh: Mesh, from_vertex: int, to_vertex: int, t: float) -> SurfacePoint:
     """The point (1 - t) * from_vertex + t * to_vertex on their edge, t in [0, 1]."""
+    mesh = checked_mesh(mesh)
     ends = _inputs.vertex_array(
         [from_vertex, to_vertex], mesh.vertex_count, "edge", lambda i: f"edge ({from_vertex}, {to_vertex}): vertex"
     )
@@ -146,6 +156,7 @@ def edge_point(mesh: Mesh, from_vertex: int, to_vertex: int, t: float) -> Surfac
 
 def point_position(mesh: Mesh, points: SurfacePoint | SurfacePoints) -> np.ndarray:
     """Where points lie in space: (3,) for one SurfacePoint, (n, 3) for SurfacePoints."""
+    mesh = checked_mesh(mesh)
     many = _as_surface_points(points)
     positions = _core.point_positions(mesh._core, many.faces, many.barycentric)
     return positions if isinstance(points, SurfacePoints) else positions[0]

@@ -12,13 +12,21 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <exception>
+#include <future>
 #include <initializer_list>
 #include <mutex>
+#include <optional>
 #include <span>
+#include <stdexcept>
+#include <stop_token>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -179,44 +187,133 @@ std::tuple<NumpyArray<double>, NumpyArray<std::uint32_t>> soup_arrays(exactgeo::
 
 // A solver bound to Python. It keeps its own handle on the mesh (a shared pointer inside exactgeo::Mesh), so
 // the Python mesh may be dropped first. The GIL is released while it runs, so two Python threads could call
-// the same solver at once: the mutex makes the second one wait.
+// the same solver at once: the mutex makes the second one wait. Runs are numbered, so that a path query can
+// tell that another thread ran the solver since the run the caller means.
 struct Solver {
   explicit Solver(const exactgeo::Mesh& mesh_) : mesh(mesh_), solver(mesh) {}
   exactgeo::Mesh mesh;
   exactgeo::GeodesicSolver solver;
   std::mutex busy;
+  std::uint64_t runs = 0;
 };
 
-// What a run returns to Python: per vertex distance and nearest source, per target the same, statistics.
-nb::tuple solve(Solver& self, const auto& run) {
-  std::vector<double> distances, target_distances;
-  std::vector<std::int64_t> nearest, target_nearest;
-  exactgeo::GeodesicStats stats;
+// A path of run `run` (the caller's last), refused if the solver has run again since.
+nb::tuple trace(Solver& self, std::uint64_t run, const auto& query) {
+  exactgeo::GeodesicPath path;
   {
     nb::gil_scoped_release release;
     const std::lock_guard lock(self.busy);
-    const exactgeo::GeodesicResult& result = run(self.solver);
+    if (run != self.runs)
+      throw std::runtime_error(
+          "this GeodesicSolver has run again since this thread's solve() (from another thread): its paths "
+          "would belong to that run. Use one GeodesicSolver per thread.");
+    path = query(self.solver);
+  }
+  return path_arrays(path, self.mesh);
+}
+
+// Progress of long work as the worker reports it: units done out of a total (rows, samples, vertices).
+struct ProgressCounter {
+  std::atomic<std::size_t> done{0};
+  std::atomic<std::size_t> total{0};
+};
+
+// Runs `work(stop, progress)` on a worker thread. This thread waits without the GIL, taking it every 50 ms to
+// let Python handle signals and to pass the progress to `on_progress(done, total)` (None: nobody listens).
+// Ctrl-C stops the work (GeodesicOptions::stop ends it within milliseconds) and raises KeyboardInterrupt once
+// the worker has returned; an exception from `on_progress` stops it the same way.
+template <class Work>
+auto run_interruptibly(const nb::object& on_progress, Work&& work) {
+  using Result = decltype(work(std::stop_token{}, std::declval<ProgressCounter&>()));
+  std::stop_source stop;
+  ProgressCounter progress;
+  std::optional<Result> result;
+  std::exception_ptr failure;
+  bool python_raised = false;
+  {
+    nb::gil_scoped_release release;
+    std::promise<void> finished;
+    std::future<void> done = finished.get_future();
+    std::jthread worker([&] {
+      try {
+        result.emplace(work(stop.get_token(), progress));
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      finished.set_value();
+    });
+    std::size_t reported = 0;
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      nb::gil_scoped_acquire acquire;
+      bool raised = PyErr_CheckSignals() != 0;
+      const std::size_t now = progress.done.load();
+      if (!raised && !on_progress.is_none() && now != reported) {
+        reported = now;
+        try {
+          on_progress(now, progress.total.load());
+        } catch (nb::python_error& e) {
+          e.restore();
+          raised = true;
+        }
+      }
+      if (raised) {
+        python_raised = true;
+        stop.request_stop();
+        break;
+      }
+    }
+  }  // the worker is joined here, without the GIL
+  if (python_raised) throw nb::python_error();
+  if (failure) std::rethrow_exception(failure);
+  return std::move(*result);
+}
+
+// Single runs on meshes this large take long enough (tens of milliseconds and more) to be worth a worker
+// thread that Ctrl-C can stop; smaller ones run on the calling thread, where that overhead would show.
+constexpr std::size_t kInterruptibleVertices = 20000;
+
+// What a run returns to Python: per vertex distance and nearest source, per target the same, statistics.
+// `run(solver, options)` starts the run with the options it is given.
+nb::tuple solve(Solver& self, exactgeo::GeodesicOptions options, const nb::object& progress, const auto& run) {
+  std::vector<double> distances, target_distances;
+  std::vector<std::int64_t> nearest, target_nearest;
+  exactgeo::GeodesicStats stats;
+  std::uint64_t run_number = 0;
+  const auto copy_result = [&](const exactgeo::GeodesicResult& result) {
     // Copies: the solver keeps its result for path queries.
     distances = result.distances;
     target_distances = result.target_distances;
     nearest = signed_indices(result.nearest_source);
     target_nearest = signed_indices(result.target_nearest_source);
     stats = result.stats;
+  };
+  if (progress.is_none() && self.mesh.vertex_count() < kInterruptibleVertices) {
+    nb::gil_scoped_release release;
+    const std::lock_guard lock(self.busy);
+    run_number = ++self.runs;  // before the run: a failed run invalidates the paths of the one before
+    copy_result(run(self.solver, options));
+  } else {
+    run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
+      const std::lock_guard lock(self.busy);
+      run_number = ++self.runs;
+      // Progress in thousandths of the vertices the wavefront has passed.
+      counter.total = 1000;
+      self.solver.set_progress([&](double fraction) { counter.done = static_cast<std::size_t>(1000 * fraction); });
+      options.stop = stop;
+      try {
+        copy_result(run(self.solver, options));
+      } catch (...) {
+        self.solver.set_progress({});
+        throw;
+      }
+      self.solver.set_progress({});
+      return true;
+    });
   }
   const std::size_t vertices = distances.size(), targets = target_distances.size();
   return nb::make_tuple(to_numpy(std::move(distances), {vertices}), to_numpy(std::move(nearest), {vertices}),
                         to_numpy(std::move(target_distances), {targets}),
-                        to_numpy(std::move(target_nearest), {targets}), nb::cast(stats));
-}
-
-nb::tuple trace(Solver& self, const auto& query) {
-  exactgeo::GeodesicPath path;
-  {
-    nb::gil_scoped_release release;
-    const std::lock_guard lock(self.busy);
-    path = query(self.solver);
-  }
-  return path_arrays(path, self.mesh);
+                        to_numpy(std::move(target_nearest), {targets}), nb::cast(stats), run_number);
 }
 
 void translate_error(const std::exception_ptr& error, void*) {
@@ -380,87 +477,111 @@ NB_MODULE(_core, m) {
       .def(
           "solve_from_vertices",
           [](Solver& self, const IndexArray& sources, const IndexArray& target_faces,
-             const PointArray& target_barycentric, const exactgeo::GeodesicOptions& options) {
+             const PointArray& target_barycentric, const exactgeo::GeodesicOptions& options, const nb::object& progress) {
             const std::vector<exactgeo::SurfacePoint> targets = surface_points(target_faces, target_barycentric);
-            return solve(self, [&](exactgeo::GeodesicSolver& solver) -> const exactgeo::GeodesicResult& {
-              return solver.solve(span_of(sources), targets, options);
-            });
+            return solve(self, options, progress,
+                         [&](exactgeo::GeodesicSolver& solver,
+                             const exactgeo::GeodesicOptions& run_options) -> const exactgeo::GeodesicResult& {
+                           return solver.solve(span_of(sources), targets, run_options);
+                         });
           },
-          "sources"_a.noconvert(), "target_faces"_a.noconvert(), "target_barycentric"_a.noconvert(), "options"_a)
+          "sources"_a.noconvert(), "target_faces"_a.noconvert(), "target_barycentric"_a.noconvert(), "options"_a,
+          "progress"_a.none())
       .def(
           "solve_from_points",
           [](Solver& self, const IndexArray& source_faces, const PointArray& source_barycentric,
              const IndexArray& target_faces, const PointArray& target_barycentric,
-             const exactgeo::GeodesicOptions& options) {
+             const exactgeo::GeodesicOptions& options, const nb::object& progress) {
             const std::vector<exactgeo::SurfacePoint> sources = surface_points(source_faces, source_barycentric);
             const std::vector<exactgeo::SurfacePoint> targets = surface_points(target_faces, target_barycentric);
-            return solve(self, [&](exactgeo::GeodesicSolver& solver) -> const exactgeo::GeodesicResult& {
-              return solver.solve(sources, targets, options);
-            });
+            return solve(self, options, progress,
+                         [&](exactgeo::GeodesicSolver& solver,
+                             const exactgeo::GeodesicOptions& run_options) -> const exactgeo::GeodesicResult& {
+                           return solver.solve(sources, targets, run_options);
+                         });
           },
           "source_faces"_a.noconvert(), "source_barycentric"_a.noconvert(), "target_faces"_a.noconvert(),
-          "target_barycentric"_a.noconvert(), "options"_a)
+          "target_barycentric"_a.noconvert(), "options"_a, "progress"_a.none())
       .def(
           "path_to_vertex",
-          [](Solver& self, std::uint32_t vertex) {
-            return trace(self, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_vertex(vertex); });
+          [](Solver& self, std::uint32_t vertex, std::uint64_t run) {
+            return trace(self, run, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_vertex(vertex); });
           },
-          "vertex"_a)
+          "vertex"_a, "run"_a)
       .def(
           "path_to_target",
-          [](Solver& self, std::size_t target) {
-            return trace(self, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_target(target); });
+          [](Solver& self, std::size_t target, std::uint64_t run) {
+            return trace(self, run, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_target(target); });
           },
-          "target"_a);
+          "target"_a, "run"_a);
 
   m.def(
       "distance_matrix",
-      [](const exactgeo::Mesh& mesh, const IndexArray& sources, const exactgeo::GeodesicOptions& options,
-         unsigned threads) {
-        std::vector<double> matrix;
-        {
-          nb::gil_scoped_release release;
-          matrix = exactgeo::distance_matrix(mesh, span_of(sources), {.geodesic = options, .threads = threads});
-        }
-        return to_numpy(std::move(matrix), {sources.shape(0), mesh.vertex_count()});
+      [](const exactgeo::Mesh& mesh, const IndexArray& sources, exactgeo::GeodesicOptions options, unsigned threads,
+         const nb::object& progress) {
+        const std::size_t columns = mesh.vertex_count();
+        std::vector<double> matrix = run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
+          options.stop = stop;
+          counter.total = sources.shape(0);
+          std::vector<double> rows(sources.shape(0) * columns);
+          exactgeo::for_each_distance_block(mesh, span_of(sources), {.geodesic = options, .threads = threads},
+                                            [&](std::size_t first, std::span<const double> block) {
+                                              std::copy(block.begin(), block.end(), rows.begin() + first * columns);
+                                              counter.done = first + block.size() / columns;
+                                            });
+          return rows;
+        });
+        return to_numpy(std::move(matrix), {sources.shape(0), columns});
       },
-      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a);
+      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a, "progress"_a.none());
 
   // The finite entries as compressed sparse rows: values, column indices and row offsets.
   m.def(
       "sparse_distance_matrix",
-      [](const exactgeo::Mesh& mesh, const IndexArray& sources, const exactgeo::GeodesicOptions& options,
-         unsigned threads) {
-        exactgeo::SparseDistances sparse;
-        std::vector<std::int64_t> row_offsets(sources.shape(0) + 1, 0);
-        {
-          nb::gil_scoped_release release;
-          sparse = exactgeo::sparse_distance_matrix(mesh, span_of(sources), {.geodesic = options, .threads = threads});
-          for (std::uint32_t row : sparse.row) ++row_offsets[row + 1];
-          for (std::size_t r = 0; r < sources.shape(0); ++r) row_offsets[r + 1] += row_offsets[r];
-        }
-        const std::size_t entries = sparse.distance.size(), rows = sources.shape(0);
-        return std::make_tuple(to_numpy(std::move(sparse.distance), {entries}),
-                               to_numpy(std::move(sparse.column), {entries}),
+      [](const exactgeo::Mesh& mesh, const IndexArray& sources, exactgeo::GeodesicOptions options, unsigned threads,
+         const nb::object& progress) {
+        const std::size_t rows = sources.shape(0), columns = mesh.vertex_count();
+        std::vector<double> values;
+        std::vector<std::uint32_t> column_indices;
+        std::vector<std::int64_t> row_offsets = {0};
+        run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
+          options.stop = stop;
+          counter.total = rows;
+          exactgeo::for_each_distance_block(mesh, span_of(sources), {.geodesic = options, .threads = threads},
+                                            [&](std::size_t first, std::span<const double> block) {
+                                              for (std::size_t i = 0; i < block.size(); ++i) {
+                                                if (!std::isinf(block[i])) {
+                                                  values.push_back(block[i]);
+                                                  column_indices.push_back(static_cast<std::uint32_t>(i % columns));
+                                                }
+                                                if ((i + 1) % columns == 0) row_offsets.push_back(std::int64_t(values.size()));
+                                              }
+                                              counter.done = first + block.size() / columns;
+                                            });
+          return true;
+        });
+        const std::size_t entries = values.size();
+        return std::make_tuple(to_numpy(std::move(values), {entries}), to_numpy(std::move(column_indices), {entries}),
                                to_numpy(std::move(row_offsets), {rows + 1}));
       },
-      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a);
+      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a, "progress"_a.none());
 
   m.def(
       "farthest_point_sampling",
-      [](const exactgeo::Mesh& mesh, std::size_t count, std::uint32_t first, const exactgeo::GeodesicOptions& options) {
-        exactgeo::Sampling sampling;
-        std::vector<std::int64_t> samples, nearest;
-        {
-          nb::gil_scoped_release release;
-          sampling = exactgeo::farthest_point_sampling(mesh, count, first, options);
-          samples.assign(sampling.samples.begin(), sampling.samples.end());
-          nearest = signed_indices(sampling.nearest_sample);
-        }
+      [](const exactgeo::Mesh& mesh, std::size_t count, const IndexArray& first, exactgeo::GeodesicOptions options,
+         const nb::object& progress) {
+        exactgeo::Sampling sampling = run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
+          options.stop = stop;
+          counter.total = count;
+          return exactgeo::farthest_point_sampling(mesh, count, span_of(first), options,
+                                                   [&](std::size_t taken) { counter.done = taken; });
+        });
+        std::vector<std::int64_t> samples(sampling.samples.begin(), sampling.samples.end());
+        std::vector<std::int64_t> nearest = signed_indices(sampling.nearest_sample);
         const std::size_t taken = samples.size(), vertices = nearest.size();
         return std::make_tuple(to_numpy(std::move(samples), {taken}), to_numpy(std::move(sampling.radii), {taken}),
                                to_numpy(std::move(sampling.distances), {vertices}),
                                to_numpy(std::move(nearest), {vertices}));
       },
-      "mesh"_a, "count"_a, "first"_a, "options"_a);
+      "mesh"_a, "count"_a, "first"_a.noconvert(), "options"_a, "progress"_a.none());
 }

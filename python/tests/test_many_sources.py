@@ -96,3 +96,22 @@ def test_without_scipy_a_cut_off_matrix_says_what_to_install(sheet, monkeypatch)
     with pytest.raises(ImportError, match="pip install scipy"):
         exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.3)
     assert exactgeo.distance_matrix(sheet, SOURCES).shape == (len(SOURCES), sheet.vertex_count)
+
+
+def test_several_first_samples_are_taken_in_their_order(sheet):
+    plain = exactgeo.farthest_point_sampling(sheet, 6, first=5)
+    seeded = exactgeo.farthest_point_sampling(sheet, 6, first=plain.samples[:3])
+    np.testing.assert_array_equal(seeded.samples, plain.samples)
+    np.testing.assert_array_equal(seeded.radii, plain.radii)
+    chosen = exactgeo.farthest_point_sampling(sheet, 4, first=[7, 100])
+    assert list(chosen.samples[:2]) == [7, 100]
+    assert chosen.radii[1] == exactgeo.distance(sheet, 7)[100]
+
+
+def test_counts_out_of_range_are_named(sheet):
+    with pytest.raises(ValueError, match=r"threads must be at most 4294967295, not 1099511627776"):
+        exactgeo.distance_matrix(sheet, SOURCES, threads=2**40)
+    with pytest.raises(ValueError, match=r"count must be at most 18446744073709551615"):
+        exactgeo.farthest_point_sampling(sheet, 2**70)
+    with pytest.raises(ValueError, match="count must be at least 0, not -1"):
+        exactgeo.farthest_point_sampling(sheet, -1)

@@ -146,3 +146,23 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
 def test_bad_meshes_raise_valueerror_naming_the_element(vertices, faces, message):
     with pytest.raises(ValueError, match=message):
         exactgeo.Mesh(vertices, faces)
+
+
+@pytest.mark.parametrize("not_a_mesh", [None, np.zeros((3, 3))])
+def test_anything_but_a_mesh_is_named_with_the_fix(not_a_mesh):
+    for call in (
+        lambda: exactgeo.distance(not_a_mesh, 0),
+        lambda: exactgeo.path(not_a_mesh, 0, 1),
+        lambda: exactgeo.distance_matrix(not_a_mesh, [0]),
+        lambda: exactgeo.farthest_point_sampling(not_a_mesh, 3),
+        lambda: exactgeo.vertex_point(not_a_mesh, 0),
+    ):
+        with pytest.raises(TypeError, match=r"mesh must be an exactgeo.Mesh, not \w+: build one with exactgeo.Mesh"):
+            call()
+
+
+def test_surface_point_arguments_are_named():
+    with pytest.raises(TypeError, match="SurfacePoint: face must be an integer face index, not 1.5"):
+        exactgeo.SurfacePoint(1.5, (1, 0, 0))
+    with pytest.raises(TypeError, match="SurfacePoint: barycentric must be three real numbers"):
+        exactgeo.SurfacePoint(1, ("a", 0, 0))

@@ -101,3 +101,11 @@ def test_a_solver_answers_path_queries_about_its_last_run(sheet):
     assert path.source == result.nearest_source[160]
     with pytest.raises(ValueError, match=r"vertex -1 is out of range \(mesh has 169 vertices\)"):
         solver.path_to_vertex(-1)
+
+
+def test_several_targets_give_several_paths_from_one_run(sheet):
+    paths = exactgeo.path(sheet, 0, [77, 150, 3])
+    assert [p.length for p in paths] == [exactgeo.path(sheet, 0, t).length for t in (77, 150, 3)]
+    points = exactgeo.path(sheet, 0, [exactgeo.SurfacePoint(5, (0.2, 0.3, 0.5)), 44])
+    assert len(points) == 2
+    assert points[1].length == pytest.approx(exactgeo.distance(sheet, 0)[44], rel=1e-12)

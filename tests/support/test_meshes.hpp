@@ -118,7 +118,7 @@ testing::AssertionResult distances_match(std::span<const double> actual, std::sp
 
 // Every variant of the paper (vtp, opvtp, ftp, opftp), each with its pruning rules switched on and off in
 // all four combinations: every distance must be exact under each of them.
-inline constexpr std::array<exactgeo::GeodesicOptions, 16> kAllVariants = [] {
+inline const std::array<exactgeo::GeodesicOptions, 16> kAllVariants = [] {
   std::array<exactgeo::GeodesicOptions, 16> variants{};
   std::size_t i = 0;
   for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames)
