@@ -472,4 +472,18 @@ TEST_P(MeshPolicy, WeldMergesASeam) {
   EXPECT_TRUE(distances_match(run(soup, right_copy, weld).distances, euclidean(soup, right_copy), kExact));
 }
 
+// Welding compares positions by value, like the STL reader: a seam whose copies write -0 where the others
+// write 0 is still one seam.
+TEST_P(MeshPolicy, WeldTreatsMinusZeroAsZero) {
+  MeshSoup soup = unit_grid(6, [](double x, double y) { return Vec3{x - 6, y, 0}; });
+  append(soup, unit_grid(6, [](double x, double y) { return Vec3{x == 0 ? -0.0 : x, y, -0.0}; }));
+  const std::uint32_t source = vertex_at(soup, {-4, 3, 0});
+  const exactgeo::MeshOptions weld{.weld_duplicate_positions = true};
+  const exactgeo::MeshReport welded = exactgeo::Mesh(soup, weld).report();
+  EXPECT_EQ(welded.duplicate_positions, 7u);
+  EXPECT_EQ(welded.welded_vertices, 7u);
+  EXPECT_EQ(welded.components, 1u);
+  EXPECT_TRUE(distances_match(run(soup, source, weld).distances, euclidean(soup, source), kExact));
+}
+
 }  // namespace
