@@ -62,6 +62,13 @@ struct PositionHash {
   }
 };
 
+struct VertexSetHash {
+  std::size_t operator()(const std::array<std::uint32_t, 3>& v) const {
+    const std::uint64_t h = (std::uint64_t{v[0]} * 0x9e3779b97f4a7c15ull ^ v[1]) * 0xbf58476d1ce4e5b9ull ^ v[2];
+    return std::hash<std::uint64_t>{}(h * 0x94d049bb133111ebull);
+  }
+};
+
 void validate_arrays(std::span<const double> positions, std::span<const std::uint32_t> triangles) {
   if (positions.size() % 3 != 0)
     throw Error(ErrorCode::invalid_mesh, "positions array has " + std::to_string(positions.size()) +
@@ -324,6 +331,11 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
   input_vertex_of_corner.reserve(triangles.size());
   std::vector<std::uint8_t> used(vertex_count, 0);
   s->input_face_to_surface.assign(triangles.size() / 3, kNone);
+  // A face with the same three vertices as a kept one (a double-sided export, say) would make each of its
+  // edges an edge of four faces, which the policy cuts: it is dropped instead, and points on it are located
+  // on the kept face.
+  std::unordered_map<std::array<std::uint32_t, 3>, std::uint32_t, VertexSetHash> kept_face_of;
+  kept_face_of.reserve(triangles.size() / 3);
   for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
     std::array<std::uint32_t, 3> v = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]};
     if (options.weld_duplicate_positions)
@@ -332,7 +344,16 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
       ++report.faces_repeating_a_vertex;
       continue;
     }
-    s->input_face_to_surface[f] = static_cast<std::uint32_t>(input_vertex_of_corner.size() / 3);
+    std::array<std::uint32_t, 3> vertex_set = v;
+    std::sort(vertex_set.begin(), vertex_set.end());
+    const auto [kept, first] =
+        kept_face_of.try_emplace(vertex_set, static_cast<std::uint32_t>(input_vertex_of_corner.size() / 3));
+    if (!first) {
+      ++report.duplicate_faces;
+      s->input_face_to_surface[f] = kept->second;
+      continue;
+    }
+    s->input_face_to_surface[f] = kept->second;
     s->surface_face_to_input.push_back(static_cast<std::uint32_t>(f));
     input_vertex_of_corner.insert(input_vertex_of_corner.end(), v.begin(), v.end());
     for (std::uint32_t x : {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]}) used[x] = 1;

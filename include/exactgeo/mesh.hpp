@@ -3,6 +3,8 @@
 // Policy for real-world input (reported in MeshReport and by `exactgeo info`):
 // - vertices used by no face are kept, so output order never changes; their distance is +inf;
 // - faces that repeat a vertex index are dropped and counted;
+// - faces with the same three vertices as an earlier face (in any order, so of either orientation: a
+//   double-sided export) are dropped and counted; a surface point on one is taken as on the kept face;
 // - zero-area faces and zero-length edges are kept and handled by the engine without NaN;
 // - edges shared by more than two faces are cut (each face sees a boundary there), and vertices whose
 //   faces then form several separate fans are split into one surface vertex per fan; distances are exact
@@ -39,6 +41,7 @@ struct MeshReport {
   std::size_t faces = 0;                        // input triangles
   std::size_t faces_used = 0;                   // triangles kept (input minus dropped)
   std::size_t faces_repeating_a_vertex = 0;     // dropped: a triangle naming one vertex twice
+  std::size_t duplicate_faces = 0;              // dropped: the same three vertices as an earlier triangle
   std::size_t degenerate_faces = 0;             // kept: zero area (collinear or coincident corners)
   std::size_t zero_length_edges = 0;            // kept: edges whose two end positions coincide
   std::size_t unreferenced_vertices = 0;        // used by no kept face; distance +inf
