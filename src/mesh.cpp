@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -193,11 +195,10 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
   std::vector<double> angle_sum(s.vertex_count, 0.0);
   std::vector<std::uint8_t> on_boundary(s.vertex_count, 0);
   std::vector<std::uint8_t> near_degenerate(s.vertex_count, 0);
-  const auto& P = s.input_positions;
   for (std::uint32_t f = 0; f < face_count; ++f) {
-    const std::array<Vec3, 3> corner = {position(P, input_vertex_of_corner[3 * f]),
-                                        position(P, input_vertex_of_corner[3 * f + 1]),
-                                        position(P, input_vertex_of_corner[3 * f + 2])};
+    const std::array<Vec3, 3> corner = {s.position(input_vertex_of_corner[3 * f]),
+                                        s.position(input_vertex_of_corner[3 * f + 1]),
+                                        s.position(input_vertex_of_corner[3 * f + 2])};
     double longest = 0;
     for (int i = 0; i < 3; ++i) {
       const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
@@ -310,7 +311,44 @@ std::size_t count_components(const SurfaceMesh& s) {
   return components;
 }
 
+// The power of two the engine scales positions by (see kOrdinaryScaleExponent), and the length scale of the
+// tolerances: the bounding-box diagonal of the used vertices in the engine's frame.
+void choose_scale(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex_of_corner) {
+  const auto& P = s.input_positions;
+  Vec3 lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (std::uint32_t v : input_vertex_of_corner)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], P[3 * v + k]);
+      hi[k] = std::max(hi[k], P[3 * v + k]);
+    }
+  // Half of each side: hi - lo itself may overflow (coordinates of both signs near the largest double).
+  double half_extent = 0;
+  for (int k = 0; k < 3; ++k) half_extent = std::max(half_extent, 0.5 * hi[k] - 0.5 * lo[k]);
+  const int exponent = half_extent > 0 ? std::ilogb(half_extent) + 1 : 0;  // extent in [2^e, 2^(e+1)), about
+  s.scale_exponent = std::abs(exponent) <= kOrdinaryScaleExponent ? 0 : -exponent;
+  const Vec3 scaled_lo = {std::ldexp(lo[0], s.scale_exponent), std::ldexp(lo[1], s.scale_exponent),
+                          std::ldexp(lo[2], s.scale_exponent)};
+  const Vec3 scaled_hi = {std::ldexp(hi[0], s.scale_exponent), std::ldexp(hi[1], s.scale_exponent),
+                          std::ldexp(hi[2], s.scale_exponent)};
+  const double diagonal = std::hypot(scaled_hi[0] - scaled_lo[0], scaled_hi[1] - scaled_lo[1], scaled_hi[2] - scaled_lo[2]);
+  s.length_scale = diagonal > 0 ? diagonal : 1.0;
+}
+
 }  // namespace
+
+double SurfaceMesh::to_input_length(double engine_length) const {
+  const double length = std::ldexp(engine_length, -scale_exponent);
+  if (std::isinf(length) && !std::isinf(engine_length)) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "a geodesic length of %.17g * 2^%d exceeds the largest double (%.17g): the mesh's coordinates "
+                  "are too large to express its distances",
+                  engine_length, -scale_exponent, std::numeric_limits<double>::max());
+    throw Error(ErrorCode::invalid_mesh, text);
+  }
+  return length;
+}
+
 }  // namespace detail
 
 Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> triangles, const MeshOptions& options) {
@@ -372,19 +410,11 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
   match_twins(*s, input_vertex_of_corner);
   split_into_fans(*s, input_vertex_of_corner, vertex_count);
   if (report.non_manifold_edges > 0) join_cut_edges_between_same_copies(*s);
+  choose_scale(*s, input_vertex_of_corner);
   compute_geometry(*s, input_vertex_of_corner);
   walk_fans(*s);
   report.surface_vertices = s->vertex_count;
   report.components = count_components(*s);
-
-  std::array<double, 3> lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (std::uint32_t v : input_vertex_of_corner)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], positions[3 * v + k]);
-      hi[k] = std::max(hi[k], positions[3 * v + k]);
-    }
-  const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-  s->length_scale = diagonal > 0 ? diagonal : 1.0;
   surface_ = std::move(s);
 }
 

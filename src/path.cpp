@@ -68,12 +68,15 @@ class PathBuilder {
     }
     std::reverse(path_.points.begin(), path_.points.end());
     std::reverse(path_.locations.begin(), path_.locations.end());
-    path_.length = 0;
+    // Measured in the engine's frame, where squared lengths neither underflow nor overflow.
+    double length = 0;
     for (std::size_t i = 1; i < path_.points.size(); ++i) {
       double squared = 0;
-      for (int k = 0; k < 3; ++k) squared += std::pow(path_.points[i][k] - path_.points[i - 1][k], 2);
-      path_.length += std::sqrt(squared);
+      for (int k = 0; k < 3; ++k)
+        squared += std::pow(surface_.to_engine_length(path_.points[i][k]) - surface_.to_engine_length(path_.points[i - 1][k]), 2);
+      length += std::sqrt(squared);
     }
+    path_.length = surface_.to_input_length(length);
     return std::move(path_);
   }
 
@@ -117,13 +120,16 @@ class PathBuilder {
   // The point at x on halfedge e, away from its ends.
   void add_edge_point(std::uint32_t e, double x) {
     const double t = x / surface_.halfedges[e].length;
-    const std::array<double, 3> a = vertex_position(surface_.tail(e)), b = vertex_position(surface_.head(e));
     PathPointLocation location;
     location.kind = PathPointLocation::Kind::edge;
     location.from = surface_.surface_to_input[surface_.tail(e)];
     location.to = surface_.surface_to_input[surface_.head(e)];
     location.t = t;
-    add({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])}, location);
+    // In the engine's frame, where b - a cannot overflow, then back.
+    const std::array<double, 3> a = surface_.position(location.from), b = surface_.position(location.to);
+    std::array<double, 3> p;
+    for (int k = 0; k < 3; ++k) p[k] = std::ldexp(a[k] + t * (b[k] - a[k]), -surface_.scale_exponent);
+    add(p, location);
   }
 
   // The point p of face(h), given in h's frame, as a surface point.
@@ -225,10 +231,10 @@ GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
                                                  std::to_string(mesh_->vertex_count()) + " vertices)");
   if (result_.distances.empty()) throw Error(ErrorCode::invalid_argument, "no run to trace a path in: solve first");
   if (std::isinf(result_.distances[vertex])) return {};
-  // The surface copy of the vertex that carries its distance.
+  // The surface copy of the vertex that carries its distance: the nearest.
   std::uint32_t copy = detail::kNone;
   for (std::uint32_t s : mesh_->surface().copies_of(vertex))
-    if (engine_->distances()[s] == result_.distances[vertex]) copy = s;
+    if (copy == detail::kNone || engine_->distances()[s] < engine_->distances()[copy]) copy = s;
   GeodesicPath path = detail::PathBuilder(*mesh_, *engine_).trace_vertex(copy);
   path.source = result_.nearest_source[vertex];
   return path;

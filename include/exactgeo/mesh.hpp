@@ -10,7 +10,12 @@
 //   faces then form several separate fans are split into one surface vertex per fan; distances are exact
 //   on that manifold surface, and an input vertex's distance is the smallest over its copies;
 // - face orientation is irrelevant: an edge shared by two faces joins them whatever their winding;
-// - vertices with identical positions stay apart unless MeshOptions::weld_duplicate_positions is set.
+// - vertices with identical positions stay apart unless MeshOptions::weld_duplicate_positions is set;
+// - any finite coordinates work, from subnormal to the largest double: the engine runs on the positions
+//   scaled by a power of two (exactly, and only when the mesh's extent is beyond about 1e12 or below 1e-12),
+//   and distances, path lengths and points come back in the input's units; a distance beyond the largest
+//   double is refused (Error invalid_mesh). A mesh far from the origin keeps the precision its coordinates
+//   have (at an offset of 1e6, about 1e-10 absolute), no more.
 #pragma once
 
 #include <cstddef>
