@@ -1,6 +1,7 @@
 // STL, ASCII and binary. STL stores each triangle with its own three positions, so vertices are shared by
-// merging equal positions (by value: -0 and 0 are one position), numbered in order of first appearance. A binary file may also start
-// with "solid", so the size decides: a binary file is exactly 84 + 50 * triangle count bytes.
+// merging equal positions (by value: -0 and 0 are one position), numbered in order of first appearance. A
+// binary file may also start with "solid", so the size decides: a binary file is exactly 84 + 50 * triangle
+// count bytes.
 #include <array>
 #include <bit>
 #include <cmath>

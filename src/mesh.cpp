@@ -330,7 +330,8 @@ void choose_scale(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex
                           std::ldexp(lo[2], s.scale_exponent)};
   const Vec3 scaled_hi = {std::ldexp(hi[0], s.scale_exponent), std::ldexp(hi[1], s.scale_exponent),
                           std::ldexp(hi[2], s.scale_exponent)};
-  const double diagonal = std::hypot(scaled_hi[0] - scaled_lo[0], scaled_hi[1] - scaled_lo[1], scaled_hi[2] - scaled_lo[2]);
+  const double diagonal =
+      std::hypot(scaled_hi[0] - scaled_lo[0], scaled_hi[1] - scaled_lo[1], scaled_hi[2] - scaled_lo[2]);
   s.length_scale = diagonal > 0 ? diagonal : 1.0;
 }
 

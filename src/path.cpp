@@ -73,7 +73,9 @@ class PathBuilder {
     for (std::size_t i = 1; i < path_.points.size(); ++i) {
       double squared = 0;
       for (int k = 0; k < 3; ++k)
-        squared += std::pow(surface_.to_engine_length(path_.points[i][k]) - surface_.to_engine_length(path_.points[i - 1][k]), 2);
+        squared += std::pow(surface_.to_engine_length(path_.points[i][k]) -
+                                surface_.to_engine_length(path_.points[i - 1][k]),
+                            2);
       length += std::sqrt(squared);
     }
     path_.length = surface_.to_input_length(length);
@@ -195,7 +197,7 @@ class PathBuilder {
       const double tolerance = eps_ * std::max(norm(c[1] - c[0]), norm(c[2] - c[0]));
       if (w_head >= -tolerance && w_apex >= -tolerance && w_head + w_apex <= area + tolerance) {
         add_face_point(h, source);
-        return kNone;
+        return pseudo_source;
       }
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through
       // the side from the head to the apex.

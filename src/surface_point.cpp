@@ -34,7 +34,9 @@ LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const st
   std::array<double, 3> b = point.barycentric;
   const std::uint32_t kept = mesh.surface_face_to_input[located.face];
   if (kept != point.face) {
-    const auto corner = [&](std::uint32_t face, int k) { return mesh.canonical_input[mesh.input_triangles[3 * face + k]]; };
+    const auto corner = [&](std::uint32_t face, int k) {
+      return mesh.canonical_input[mesh.input_triangles[3 * face + k]];
+    };
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j)
         if (corner(kept, k) == corner(point.face, j)) b[k] = point.barycentric[j];

@@ -113,8 +113,9 @@ TEST(MeshReport, CountsOnAGridAndASphere) {
   EXPECT_EQ(r.components, 1u);
   EXPECT_EQ(r.surface_vertices, 20u);
   EXPECT_EQ(r.saddle_vertices, 0u);
-  EXPECT_EQ(r.faces_repeating_a_vertex + r.duplicate_faces + r.degenerate_faces + r.zero_length_edges + r.unreferenced_vertices +
-                r.duplicate_positions + r.welded_vertices + r.non_manifold_edges + r.non_manifold_vertices,
+  EXPECT_EQ(r.faces_repeating_a_vertex + r.duplicate_faces + r.degenerate_faces + r.zero_length_edges +
+                r.unreferenced_vertices + r.duplicate_positions + r.welded_vertices + r.non_manifold_edges +
+                r.non_manifold_vertices,
             0u);
 
   const exactgeo::Mesh sphere(exactgeo::make_icosphere(2));
@@ -276,9 +277,11 @@ TEST_P(MeshPolicy, DuplicateFacesAreDroppedAndCounted) {
     }
     // A point on a dropped duplicate is the same point on the kept face: the weights follow the corners.
     const exactgeo::Mesh mesh(reversed);
-    const exactgeo::SurfacePoint on_kept{2, {0.2, 0.3, 0.5}}, on_duplicate{static_cast<std::uint32_t>(faces + 2), {0.2, 0.5, 0.3}};
+    const exactgeo::SurfacePoint on_kept{2, {0.2, 0.3, 0.5}};
+    const exactgeo::SurfacePoint on_duplicate{static_cast<std::uint32_t>(faces + 2), {0.2, 0.5, 0.3}};
     EXPECT_EQ(exactgeo::point_position(mesh, on_duplicate), exactgeo::point_position(mesh, on_kept));
-    const std::vector<double> from_kept = exactgeo::geodesic_distance(mesh, std::span(&on_kept, 1), GetParam()).distances;
+    const std::vector<double> from_kept =
+        exactgeo::geodesic_distance(mesh, std::span(&on_kept, 1), GetParam()).distances;
     EXPECT_EQ(exactgeo::geodesic_distance(mesh, std::span(&on_duplicate, 1), GetParam()).distances, from_kept);
   }
 }

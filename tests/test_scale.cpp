@@ -67,8 +67,9 @@ Answers answers(const Mesh& mesh, const exactgeo::GeodesicOptions& options, doub
   for (std::uint32_t v = 0; v < mesh.vertex_count(); v += 11) a.paths.push_back(solver.path_to_vertex(v));
   const auto face = [&](std::uint32_t f) { return static_cast<std::uint32_t>(f % mesh.face_count()); };
   const SurfacePoint source{face(5), {0.2, 0.3, 0.5}};
+  const auto vertex = static_cast<std::uint32_t>(60 % mesh.vertex_count());
   const std::vector<SurfacePoint> targets = {{face(17), {0.6, 0.1, 0.3}}, {face(40), {0.5, 0.5, 0}},
-                                             exactgeo::vertex_point(mesh, static_cast<std::uint32_t>(60 % mesh.vertex_count()))};
+                                             exactgeo::vertex_point(mesh, vertex)};
   a.target_distances = solver.solve(std::span(&source, 1), targets, options).target_distances;
   exactgeo::GeodesicOptions cut = options;
   cut.max_distance = max_distance;
@@ -178,12 +179,14 @@ TEST(Scale, DistancesBeyondTheLargestDoubleAreRefused) {
 TEST_P(ScaleOf, FarFromTheOriginPrecisionFollowsTheCoordinates) {
   const MeshSoup unit_soup = terrain();
   const std::vector<double> expected = exactgeo::geodesic_distance(Mesh(unit_soup), 3u, GetParam()).distances;
-  for (const std::array<double, 3>& offset : {std::array<double, 3>{1e6, -1e6, 1e6}, std::array<double, 3>{0, 0, 1e9}}) {
+  using Offset = std::array<double, 3>;
+  for (const Offset& offset : {Offset{1e6, -1e6, 1e6}, Offset{0, 0, 1e9}}) {
     const Mesh mesh(translated(unit_soup, offset));
     GeodesicSolver solver(mesh);
     const std::uint32_t sources[] = {3};
     const std::vector<double> d = solver.solve(sources, {}, GetParam()).distances;
-    const double coordinate_precision = 1e-15 * std::max({std::abs(offset[0]), std::abs(offset[1]), std::abs(offset[2])});
+    const double coordinate_precision =
+        1e-15 * std::max({std::abs(offset[0]), std::abs(offset[1]), std::abs(offset[2])});
     EXPECT_TRUE(exactgeo_test::distances_match(d, expected, 100 * coordinate_precision));
     for (std::uint32_t v = 0; v < mesh.vertex_count(); v += 7) {
       const GeodesicPath path = solver.path_to_vertex(v);
