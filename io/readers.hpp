@@ -45,11 +45,19 @@ std::string too_many_vertices(std::uint64_t vertex_count);  // more than 32-bit 
 // Append the triangles (c0 c1 c2), (c0 c2 c3), ... of a polygon whose indices are already checked.
 void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles);
 
+// Editors on Windows start UTF-8 text with a byte-order mark; it is not part of the first line.
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+inline std::size_t byte_order_mark_size(std::string_view bytes) {
+  return bytes.starts_with(kUtf8ByteOrderMark) ? kUtf8ByteOrderMark.size() : 0;
+}
+
 // Walks a text file line by line and, within a line, token by token (tokens are separated by spaces,
-// tabs and a CR before the line feed). A token starting with the comment character ends its line.
+// tabs and a CR before the line feed). A token starting with the comment character ends its line. A
+// byte-order mark at the start of the file is skipped.
 class TextCursor {
  public:
-  explicit TextCursor(const MeshFile& file, char comment = '\0') : file_(file), comment_(comment) {}
+  explicit TextCursor(const MeshFile& file, char comment = '\0')
+      : file_(file), comment_(comment), next_line_start_(byte_order_mark_size(file.bytes)) {}
 
   // Move to the next line; false at the end of the file.
   bool next_line();
@@ -80,7 +88,7 @@ class TextCursor {
   const MeshFile& file_;
   char comment_;
   std::string_view line_;  // unread rest of the current line
-  std::size_t next_line_start_ = 0;
+  std::size_t next_line_start_;
   std::size_t line_number_ = 0;
 };
 

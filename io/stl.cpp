@@ -1,6 +1,7 @@
 // STL, ASCII and binary. STL stores each triangle with its own three positions, so vertices are shared by
-// merging bitwise-identical positions, numbered in order of first appearance. A binary file may also start
-// with "solid", so the size decides: a binary file is exactly 84 + 50 * triangle count bytes.
+// merging equal positions (by value: -0 and 0 are one position), numbered in order of first appearance. A
+// binary file may also start with "solid", so the size decides: a binary file is exactly 84 + 50 * triangle
+// count bytes.
 #include <array>
 #include <bit>
 #include <cmath>
@@ -17,7 +18,9 @@ namespace {
 constexpr std::size_t kBinaryHeaderBytes = 84;  // 80-byte comment, then a uint32 triangle count
 constexpr std::size_t kBinaryTriangleBytes = 50;  // normal, three corners (12 floats), uint16 attribute
 
-// Numbers positions in order of first appearance, giving identical ones the same index.
+// Numbers positions in order of first appearance, giving equal ones the same index. Coordinates are finite
+// (checked before), so the bits identify a value once -0 is mapped to 0: writers emit both for one corner,
+// and keeping them apart would cut the surface there.
 class VertexMerger {
  public:
   VertexMerger(MeshSoup& soup, std::size_t expected_vertices) : soup_(soup) {
@@ -25,8 +28,8 @@ class VertexMerger {
   }
 
   std::uint32_t index_of(double x, double y, double z) {
-    const Key key = {std::bit_cast<std::uint64_t>(x), std::bit_cast<std::uint64_t>(y),
-                     std::bit_cast<std::uint64_t>(z)};
+    const auto bits = [](double c) { return std::bit_cast<std::uint64_t>(c + 0.0); };  // -0 + 0 = +0
+    const Key key = {bits(x), bits(y), bits(z)};
     const auto [it, inserted] = indices_.try_emplace(key, static_cast<std::uint32_t>(indices_.size()));
     if (inserted) soup_.positions.insert(soup_.positions.end(), {x, y, z});
     return it->second;
@@ -115,6 +118,7 @@ MeshSoup read_ascii_stl(const MeshFile& file) {
 }
 
 bool starts_with_solid(std::string_view bytes) {
+  bytes.remove_prefix(byte_order_mark_size(bytes));
   const std::size_t first = bytes.find_first_not_of(" \t\r\n");
   return first != std::string_view::npos && bytes.substr(first).starts_with("solid");
 }

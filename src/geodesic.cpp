@@ -101,8 +101,10 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
   result.nearest_source.assign(mesh_->vertex_count(), kNoSource);
   for (std::uint32_t v = 0; v < mesh_->vertex_count(); ++v) {
     for (std::uint32_t s : surface.copies_of(v)) {
-      if (d[s] <= cutoff && d[s] < result.distances[v]) {
-        result.distances[v] = d[s];
+      if (!(d[s] <= cutoff)) continue;
+      const double distance = surface.to_input_length(d[s]);
+      if (distance < result.distances[v]) {
+        result.distances[v] = distance;
         result.nearest_source[v] = label_of_vertex(s);
       }
     }
@@ -113,7 +115,7 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
     const std::uint32_t vertex = located_targets[t].vertex;
     const double distance = vertex != detail::kNone ? d[vertex] : engine.target_distances()[t];
     if (!(distance <= cutoff)) continue;
-    result.target_distances[t] = distance;
+    result.target_distances[t] = surface.to_input_length(distance);
     if (vertex != detail::kNone)
       result.target_nearest_source[t] = label_of_vertex(vertex);
     else

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -59,6 +61,13 @@ struct PositionHash {
       h ^= std::hash<std::uint64_t>{}(bits) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
     }
     return h;
+  }
+};
+
+struct VertexSetHash {
+  std::size_t operator()(const std::array<std::uint32_t, 3>& v) const {
+    const std::uint64_t h = (std::uint64_t{v[0]} * 0x9e3779b97f4a7c15ull ^ v[1]) * 0xbf58476d1ce4e5b9ull ^ v[2];
+    return std::hash<std::uint64_t>{}(h * 0x94d049bb133111ebull);
   }
 };
 
@@ -186,11 +195,10 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
   std::vector<double> angle_sum(s.vertex_count, 0.0);
   std::vector<std::uint8_t> on_boundary(s.vertex_count, 0);
   std::vector<std::uint8_t> near_degenerate(s.vertex_count, 0);
-  const auto& P = s.input_positions;
   for (std::uint32_t f = 0; f < face_count; ++f) {
-    const std::array<Vec3, 3> corner = {position(P, input_vertex_of_corner[3 * f]),
-                                        position(P, input_vertex_of_corner[3 * f + 1]),
-                                        position(P, input_vertex_of_corner[3 * f + 2])};
+    const std::array<Vec3, 3> corner = {s.position(input_vertex_of_corner[3 * f]),
+                                        s.position(input_vertex_of_corner[3 * f + 1]),
+                                        s.position(input_vertex_of_corner[3 * f + 2])};
     double longest = 0;
     for (int i = 0; i < 3; ++i) {
       const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
@@ -303,7 +311,45 @@ std::size_t count_components(const SurfaceMesh& s) {
   return components;
 }
 
+// The power of two the engine scales positions by (see kOrdinaryScaleExponent), and the length scale of the
+// tolerances: the bounding-box diagonal of the used vertices in the engine's frame.
+void choose_scale(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex_of_corner) {
+  const auto& P = s.input_positions;
+  Vec3 lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (std::uint32_t v : input_vertex_of_corner)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], P[3 * v + k]);
+      hi[k] = std::max(hi[k], P[3 * v + k]);
+    }
+  // Half of each side: hi - lo itself may overflow (coordinates of both signs near the largest double).
+  double half_extent = 0;
+  for (int k = 0; k < 3; ++k) half_extent = std::max(half_extent, 0.5 * hi[k] - 0.5 * lo[k]);
+  const int exponent = half_extent > 0 ? std::ilogb(half_extent) + 1 : 0;  // extent in [2^e, 2^(e+1)), about
+  s.scale_exponent = std::abs(exponent) <= kOrdinaryScaleExponent ? 0 : -exponent;
+  const Vec3 scaled_lo = {std::ldexp(lo[0], s.scale_exponent), std::ldexp(lo[1], s.scale_exponent),
+                          std::ldexp(lo[2], s.scale_exponent)};
+  const Vec3 scaled_hi = {std::ldexp(hi[0], s.scale_exponent), std::ldexp(hi[1], s.scale_exponent),
+                          std::ldexp(hi[2], s.scale_exponent)};
+  const double diagonal =
+      std::hypot(scaled_hi[0] - scaled_lo[0], scaled_hi[1] - scaled_lo[1], scaled_hi[2] - scaled_lo[2]);
+  s.length_scale = diagonal > 0 ? diagonal : 1.0;
+}
+
 }  // namespace
+
+double SurfaceMesh::to_input_length(double engine_length) const {
+  const double length = std::ldexp(engine_length, -scale_exponent);
+  if (std::isinf(length) && !std::isinf(engine_length)) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "a geodesic length of %.17g * 2^%d exceeds the largest double (%.17g): the mesh's coordinates "
+                  "are too large to express its distances",
+                  engine_length, -scale_exponent, std::numeric_limits<double>::max());
+    throw Error(ErrorCode::invalid_mesh, text);
+  }
+  return length;
+}
+
 }  // namespace detail
 
 Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> triangles, const MeshOptions& options) {
@@ -324,6 +370,11 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
   input_vertex_of_corner.reserve(triangles.size());
   std::vector<std::uint8_t> used(vertex_count, 0);
   s->input_face_to_surface.assign(triangles.size() / 3, kNone);
+  // A face with the same three vertices as a kept one (a double-sided export, say) would make each of its
+  // edges an edge of four faces, which the policy cuts: it is dropped instead, and points on it are located
+  // on the kept face.
+  std::unordered_map<std::array<std::uint32_t, 3>, std::uint32_t, VertexSetHash> kept_face_of;
+  kept_face_of.reserve(triangles.size() / 3);
   for (std::size_t f = 0; f < triangles.size() / 3; ++f) {
     std::array<std::uint32_t, 3> v = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]};
     if (options.weld_duplicate_positions)
@@ -332,7 +383,16 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
       ++report.faces_repeating_a_vertex;
       continue;
     }
-    s->input_face_to_surface[f] = static_cast<std::uint32_t>(input_vertex_of_corner.size() / 3);
+    std::array<std::uint32_t, 3> vertex_set = v;
+    std::sort(vertex_set.begin(), vertex_set.end());
+    const auto [kept, first] =
+        kept_face_of.try_emplace(vertex_set, static_cast<std::uint32_t>(input_vertex_of_corner.size() / 3));
+    if (!first) {
+      ++report.duplicate_faces;
+      s->input_face_to_surface[f] = kept->second;
+      continue;
+    }
+    s->input_face_to_surface[f] = kept->second;
     s->surface_face_to_input.push_back(static_cast<std::uint32_t>(f));
     input_vertex_of_corner.insert(input_vertex_of_corner.end(), v.begin(), v.end());
     for (std::uint32_t x : {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]}) used[x] = 1;
@@ -351,19 +411,11 @@ Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> tri
   match_twins(*s, input_vertex_of_corner);
   split_into_fans(*s, input_vertex_of_corner, vertex_count);
   if (report.non_manifold_edges > 0) join_cut_edges_between_same_copies(*s);
+  choose_scale(*s, input_vertex_of_corner);
   compute_geometry(*s, input_vertex_of_corner);
   walk_fans(*s);
   report.surface_vertices = s->vertex_count;
   report.components = count_components(*s);
-
-  std::array<double, 3> lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (std::uint32_t v : input_vertex_of_corner)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], positions[3 * v + k]);
-      hi[k] = std::max(hi[k], positions[3 * v + k]);
-    }
-  const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-  s->length_scale = diagonal > 0 ? diagonal : 1.0;
   surface_ = std::move(s);
 }
 

@@ -61,19 +61,24 @@ class PathBuilder {
     const std::uint32_t n = surface_.vertex_count;
     for (std::uint32_t pieces = 0; arrival.halfedge != kNone; ++pieces) {
       if (pieces > n) fail("the chain of pseudo-sources does not end at a source");
-      trace_piece(arrival);
-      if (arrival.from >= n) break;  // a source point: the piece ended on it
-      add_vertex(arrival.from);
-      arrival = engine_.arrivals()[arrival.from];  // kNone at a source vertex
+      const std::uint32_t reached = trace_piece(arrival);
+      if (reached == kNone) break;  // a source point: the piece ended on it
+      add_vertex(reached);
+      arrival = engine_.arrivals()[reached];  // kNone at a source vertex
     }
     std::reverse(path_.points.begin(), path_.points.end());
     std::reverse(path_.locations.begin(), path_.locations.end());
-    path_.length = 0;
+    // Measured in the engine's frame, where squared lengths neither underflow nor overflow.
+    double length = 0;
     for (std::size_t i = 1; i < path_.points.size(); ++i) {
       double squared = 0;
-      for (int k = 0; k < 3; ++k) squared += std::pow(path_.points[i][k] - path_.points[i - 1][k], 2);
-      path_.length += std::sqrt(squared);
+      for (int k = 0; k < 3; ++k)
+        squared += std::pow(surface_.to_engine_length(path_.points[i][k]) -
+                                surface_.to_engine_length(path_.points[i - 1][k]),
+                            2);
+      length += std::sqrt(squared);
     }
+    path_.length = surface_.to_input_length(length);
     return std::move(path_);
   }
 
@@ -107,19 +112,26 @@ class PathBuilder {
     add(vertex_position(surface_vertex), vertex_location(surface_vertex));
   }
 
-  // The point at x on halfedge e (a vertex if within the snapping distance of an end).
+  // The end of halfedge e within the snapping distance of x, if any.
+  std::uint32_t vertex_at(std::uint32_t e, double x) const {
+    if (x <= eps_) return surface_.tail(e);
+    if (x >= surface_.halfedges[e].length - eps_) return surface_.head(e);
+    return kNone;
+  }
+
+  // The point at x on halfedge e, away from its ends.
   void add_edge_point(std::uint32_t e, double x) {
-    const double length = surface_.halfedges[e].length;
-    if (x <= eps_) return add_vertex(surface_.tail(e));
-    if (x >= length - eps_) return add_vertex(surface_.head(e));
-    const double t = x / length;
-    const std::array<double, 3> a = vertex_position(surface_.tail(e)), b = vertex_position(surface_.head(e));
+    const double t = x / surface_.halfedges[e].length;
     PathPointLocation location;
     location.kind = PathPointLocation::Kind::edge;
     location.from = surface_.surface_to_input[surface_.tail(e)];
     location.to = surface_.surface_to_input[surface_.head(e)];
     location.t = t;
-    add({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])}, location);
+    // In the engine's frame, where b - a cannot overflow, then back.
+    const std::array<double, 3> a = surface_.position(location.from), b = surface_.position(location.to);
+    std::array<double, 3> p;
+    for (int k = 0; k < 3; ++k) p[k] = std::ldexp(a[k] + t * (b[k] - a[k]), -surface_.scale_exponent);
+    add(p, location);
   }
 
   // The point p of face(h), given in h's frame, as a surface point.
@@ -150,18 +162,26 @@ class PathBuilder {
     return kNone;
   }
 
-  // One straight piece: from `start` (in the frame of arrival.halfedge) to the arrival's pseudo-source,
-  // adding every point where it crosses an edge, and the pseudo-source itself when it is a point source.
-  void trace_piece(const Arrival& arrival) {
+  // One straight piece: from the point the arrival reaches back towards the arrival's pseudo-source, adding
+  // every point where it crosses an edge, and the pseudo-source itself when it is a point source. Returns the
+  // vertex where the piece ends (kNone at a point source): the pseudo-source, or the first vertex the piece
+  // runs through on the way. A piece of a window's ray runs through a vertex where the window was cut there
+  // (along a line of symmetry, say, every vertex of it): the surface is unfolded differently on either side
+  // of the vertex, so the straight line beyond it, and the face sequence the window took, are not known here.
+  // The vertex's own path is no longer than the rest of the ray (it was reached through that window too, and
+  // its distance is the smallest), so the path continues with it, and stays as short as the distance.
+  std::uint32_t trace_piece(const Arrival& arrival) {
+    const std::uint32_t pseudo_source = arrival.from < surface_.vertex_count ? arrival.from : kNone;
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
     if (std::isnan(arrival.crossing)) {  // straight to a corner or a source inside the face
       if (corner_at(h, source) == kNone) add_face_point(h, source);
-      return;
+      return pseudo_source;
     }
+    if (const std::uint32_t v = vertex_at(h, arrival.crossing); v != kNone) return v;
     add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
-    if (norm(source - entry) <= eps_) return;  // the pseudo-source is where the piece crosses
+    if (norm(source - entry) <= eps_) return pseudo_source;  // the pseudo-source is where the piece crosses
     // Walk face by face: enter the face across h at `entry`, heading for `source` beyond it.
     const std::size_t limit = 2 * surface_.halfedges.size() + 8;
     for (std::size_t step = 0; step < limit; ++step) {
@@ -170,17 +190,17 @@ class PathBuilder {
       entry = to_twin(surface_, h, entry);
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
-      if (corner_at(h, source) != kNone) return;
+      if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return corner;
       // Inside the face (or on its far edges): a source point.
       const double area = cross(c[1] - c[0], c[2] - c[0]);
       const double w_head = cross(source - c[0], c[2] - c[0]), w_apex = cross(c[1] - c[0], source - c[0]);
       const double tolerance = eps_ * std::max(norm(c[1] - c[0]), norm(c[2] - c[0]));
       if (w_head >= -tolerance && w_apex >= -tolerance && w_head + w_apex <= area + tolerance) {
         add_face_point(h, source);
-        return;
+        return pseudo_source;
       }
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through
-      // the side from the head to the apex; a corner on the way is passed through on the next step.
+      // the side from the head to the apex.
       const bool via_tail_side = cross(c[2] - entry, source - entry) > 0;
       const std::uint32_t side = via_tail_side ? prev_halfedge(h) : next_halfedge(h);  // apex->tail or head->apex
       const Vec2 s = to_sibling_frame(surface_, h, side, source);
@@ -188,6 +208,7 @@ class PathBuilder {
       // Where the segment e -> s meets the side's line (y = 0).
       const double along = s.y != e.y ? e.x + (s.x - e.x) * (e.y / (e.y - s.y)) : e.x;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);
+      if (const std::uint32_t v = vertex_at(side, x); v != kNone) return v;
       add_edge_point(side, x);
       entry = {x, 0};
       source = s;
@@ -212,10 +233,10 @@ GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
                                                  std::to_string(mesh_->vertex_count()) + " vertices)");
   if (result_.distances.empty()) throw Error(ErrorCode::invalid_argument, "no run to trace a path in: solve first");
   if (std::isinf(result_.distances[vertex])) return {};
-  // The surface copy of the vertex that carries its distance.
+  // The surface copy of the vertex that carries its distance: the nearest.
   std::uint32_t copy = detail::kNone;
   for (std::uint32_t s : mesh_->surface().copies_of(vertex))
-    if (engine_->distances()[s] == result_.distances[vertex]) copy = s;
+    if (copy == detail::kNone || engine_->distances()[s] < engine_->distances()[copy]) copy = s;
   GeodesicPath path = detail::PathBuilder(*mesh_, *engine_).trace_vertex(copy);
   path.source = result_.nearest_source[vertex];
   return path;

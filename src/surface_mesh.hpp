@@ -6,6 +6,8 @@
 // apex_y >= 0. Faces keep the input winding; the engine never relies on consistent orientation.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -32,6 +34,18 @@ struct SurfaceMesh {
   std::vector<double> input_positions;
   std::vector<std::uint32_t> input_triangles;
   MeshReport report;
+
+  // The engine works on the input positions times 2^scale_exponent (0 unless the mesh's extent is far from
+  // 1, see kOrdinaryScaleExponent), so that squared lengths neither overflow nor underflow at any scale. All
+  // geometry below (lengths, frames, length_scale) is in that frame; distances are scaled back on output.
+  int scale_exponent = 0;
+  std::array<double, 3> position(std::uint32_t input_vertex) const {
+    const double* p = input_positions.data() + 3 * std::size_t{input_vertex};
+    return {std::ldexp(p[0], scale_exponent), std::ldexp(p[1], scale_exponent), std::ldexp(p[2], scale_exponent)};
+  }
+  double to_engine_length(double input_length) const { return std::ldexp(input_length, scale_exponent); }
+  // Throws Error(invalid_mesh) if the length exceeds the largest double once scaled back.
+  double to_input_length(double engine_length) const;
 
   // Surface vertices: input vertices, split where non-manifold.
   std::uint32_t vertex_count = 0;
@@ -67,7 +81,7 @@ struct SurfaceMesh {
   std::vector<std::uint8_t> fan_closed;             // per vertex: no boundary edge around it
   std::vector<std::uint8_t> fan_angles_reliable;    // per vertex
 
-  double length_scale = 1.0;  // bounding-box diagonal of the used vertices
+  double length_scale = 1.0;  // bounding-box diagonal of the used vertices (in the engine's frame)
 
   // Surface vertices that carry input vertex v's distance (none if v is used by no face).
   std::span<const std::uint32_t> copies_of(std::uint32_t input_vertex) const {

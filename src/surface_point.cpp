@@ -30,7 +30,17 @@ LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const st
   if (located.face == kNone)
     throw Error(ErrorCode::invalid_argument, what + ": face " + std::to_string(point.face) +
                                                  " repeats a vertex and was dropped from the mesh");
-  const std::array<double, 3>& b = point.barycentric;
+  // A dropped duplicate of the kept face lists the same corners in another order: weights follow corners.
+  std::array<double, 3> b = point.barycentric;
+  const std::uint32_t kept = mesh.surface_face_to_input[located.face];
+  if (kept != point.face) {
+    const auto corner = [&](std::uint32_t face, int k) {
+      return mesh.canonical_input[mesh.input_triangles[3 * face + k]];
+    };
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        if (corner(kept, k) == corner(point.face, j)) b[k] = point.barycentric[j];
+  }
   const double sum = b[0] + b[1] + b[2];
   const bool finite = std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]);
   if (!finite || std::min({b[0], b[1], b[2]}) < -kBarycentricSlack || std::abs(sum - 1) > kBarycentricSlack)

@@ -33,4 +33,11 @@ inline constexpr double kPathSnapTolerance = 1e-10;
 // A face whose doubled area is below this times its longest edge squared counts as degenerate.
 inline constexpr double kDegenerateAreaRatio = 1e-12;
 
+// Meshes whose extent (the largest side of the bounding box) lies within 2^-this and 2^this are run on as
+// given; others on positions scaled by a power of two that brings the extent to [1, 2). The engine squares
+// lengths and, in Rule 2's overlap test, multiplies up to six of them: at 2^40 (about 1e12) that is 2^240,
+// far from overflow, and features a billion times smaller than the mesh still square to a normal number at
+// 2^-40. Scaling by a power of two is exact, so within the range nothing changes, bit for bit.
+inline constexpr int kOrdinaryScaleExponent = 40;
+
 }  // namespace exactgeo::detail

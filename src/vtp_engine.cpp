@@ -121,11 +121,12 @@ ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Arrival& 
 void VtpEngine::run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
                     const GeodesicOptions& options) {
   options_ = options;
+  options_.max_distance = mesh_.to_engine_length(options.max_distance);  // the cut-off in the engine's frame
   face_sorted_ = options.algorithm == Algorithm::ftp || options.algorithm == Algorithm::opftp;
   order_preserving_ = options.algorithm == Algorithm::opvtp || options.algorithm == Algorithm::opftp;
   tolerances_ = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale};
   stats_ = {};
-  cutoff_ = options.max_distance;
+  cutoff_ = options_.max_distance;
   sources_.assign(sources.begin(), sources.end());
   const std::uint32_t n = mesh_.vertex_count;
   distance_.assign(n, HUGE_VAL);

@@ -56,7 +56,8 @@ class VtpEngine {
            const GeodesicOptions& options);
   void set_progress(std::function<void(double)> callback) { progress_ = std::move(callback); }
 
-  // Distances above the cut-off are not final: reported as +inf.
+  // Distances above the cut-off are not final: reported as +inf. Lengths are in the mesh's engine frame
+  // (SurfaceMesh::scale_exponent).
   double cutoff() const { return cutoff_; }
   const std::vector<double>& distances() const { return distance_; }  // per surface vertex
   const std::vector<Arrival>& arrivals() const { return arrival_; }   // per surface vertex

@@ -113,6 +113,18 @@ TEST_F(IoObj, ReadsPositionsAndTriangles) {
   EXPECT_EQ(soup.triangles, (std::vector<std::uint32_t>{0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3}));
 }
 
+// A UTF-8 byte-order mark (Windows editors write one) is not part of the first statement: read as part of it,
+// the first `v` line was dropped and every index shifted.
+constexpr std::string_view kBom = "\xEF\xBB\xBF";
+
+TEST_F(IoObj, ByteOrderMarkIsSkipped) {
+  const MeshSoup soup = read_mesh_soup(write("bom.obj", std::string(kBom) +
+                                                           "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                           "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n"));
+  EXPECT_EQ(soup.positions, kTetraPositions);
+  EXPECT_EQ(soup.triangles, (std::vector<std::uint32_t>{0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3}));
+}
+
 TEST_F(IoObj, SlashFormsAndNegativeIndices) {
   const MeshSoup soup = read_mesh_soup(write("slashes.obj",
                                              "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
@@ -266,6 +278,22 @@ TEST_F(IoPly, BinaryBothByteOrdersWithMixedTypes) {
   }
 }
 
+TEST_F(IoPly, ByteOrderMarkIsSkippedInAsciiAndBinary) {
+  const MeshSoup ascii = read_mesh_soup(write("bom.ply", std::string(kBom) +
+                                                             "ply\nformat ascii 1.0\nelement vertex 4\n"
+                                                             "property float x\nproperty float y\nproperty float z\n"
+                                                             "element face 4\nproperty list uchar int vertex_indices\n"
+                                                             "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                                             "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"));
+  EXPECT_EQ(ascii.positions, kTetraPositions);
+  EXPECT_EQ(ascii.triangles, (std::vector<std::uint32_t>{0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3}));
+  for (bool big_endian : {false, true}) {  // the binary body starts after the header, wherever that ends
+    const MeshSoup binary = read_mesh_soup(write("bom_binary.ply", std::string(kBom) + binary_ply(big_endian)));
+    EXPECT_EQ(binary.positions, read_mesh_soup(write("binary.ply", binary_ply(big_endian))).positions);
+    EXPECT_EQ(binary.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 3, 2, 1}));
+  }
+}
+
 TEST_F(IoPly, TriangleStripsAlternateWindingAndKeepDegenerateTriangles) {
   const MeshSoup soup = read_mesh_soup(write("strips.ply",
                                              "ply\nformat ascii 1.0\n"
@@ -369,6 +397,16 @@ TEST_F(IoOff, CommentsColoursAndPolygons) {
   EXPECT_EQ(soup.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4, 4, 3, 2}));
 }
 
+TEST_F(IoOff, ByteOrderMarkIsSkipped) {
+  for (const std::string header : {"OFF\n", ""}) {  // the keyword is optional
+    const MeshSoup soup = read_mesh_soup(write("bom.off", std::string(kBom) + header +
+                                                              "4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                                              "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"));
+    EXPECT_EQ(soup.positions, kTetraPositions);
+    EXPECT_EQ(soup.triangles, (std::vector<std::uint32_t>{0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3}));
+  }
+}
+
 TEST_F(IoOff, PrefixedKeywordsAndCountsOnTheKeywordLine) {
   for (const char* keyword : {"COFF", "NOFF", "CNOFF", "STOFF", "STCNOFF"}) {
     SCOPED_TRACE(keyword);
@@ -460,6 +498,50 @@ TEST_F(IoStl, BinaryWhoseHeaderStartsWithSolid) {
   const MeshSoup soup = read_mesh_soup(write("solid.stl", binary_stl("solid exported as binary", 2)));
   EXPECT_EQ(soup.positions, kStlPositions);
   EXPECT_EQ(soup.triangles, kStlTriangles);
+}
+
+TEST_F(IoStl, AsciiWithByteOrderMarkIsAscii) {
+  const MeshSoup soup = read_mesh_soup(write("bom.stl", std::string(kBom) +
+                                                            "solid part\n"
+                                                            "facet normal 0 0 1 outer loop\n"
+                                                            "vertex 0 0 0 vertex 1 0 0 vertex 0 1 0.5\n"
+                                                            "endloop endfacet\n"
+                                                            "facet normal 0 0 1 outer loop\n"
+                                                            "vertex 0 1 0.5 vertex 1 0 0 vertex 1 1 0\n"
+                                                            "endloop endfacet\n"
+                                                            "endsolid part\n"));
+  EXPECT_EQ(soup.positions, kStlPositions);
+  EXPECT_EQ(soup.triangles, kStlTriangles);
+  // A binary file's header is 80 arbitrary bytes: one that starts like a byte-order mark is still binary.
+  const MeshSoup binary = read_mesh_soup(write("bom_binary.stl", binary_stl(std::string(kBom) + "solid", 2)));
+  EXPECT_EQ(binary.positions, kStlPositions);
+  EXPECT_EQ(binary.triangles, kStlTriangles);
+}
+
+// Writers emit -0 and 0 for the same corner; merged by bits, the two became separate vertices and cracked
+// the surface (every vertex beyond the crack at +inf).
+TEST_F(IoStl, MinusZeroAndZeroAreOnePosition) {
+  const MeshSoup ascii = read_mesh_soup(write("signed_zero.stl",
+                                              "solid part\n"
+                                              "facet normal 0 0 1 outer loop\n"
+                                              "vertex 0 0 0 vertex 1 0 0 vertex 0 1 0.5\n"
+                                              "endloop endfacet\n"
+                                              "facet normal 0 0 1 outer loop\n"
+                                              "vertex -0 1 0.5 vertex 1 -0 -0.0 vertex 1 1 -0\n"
+                                              "endloop endfacet\n"
+                                              "endsolid part\n"));
+  EXPECT_EQ(ascii.positions, kStlPositions);
+  EXPECT_EQ(ascii.triangles, kStlTriangles);
+
+  std::string binary = binary_stl("binary", 2);
+  const float minus_zero = -0.0f;
+  for (std::size_t corner : {0, 1}) {  // the second triangle's first two corners: (0, 1, 0.5) and (1, 0, 0)
+    const std::size_t at = 84 + 50 + 12 + 12 * corner + (corner == 0 ? 0 : 4);
+    std::memcpy(binary.data() + at, &minus_zero, sizeof minus_zero);
+  }
+  const MeshSoup from_binary = read_mesh_soup(write("signed_zero_binary.stl", binary));
+  EXPECT_EQ(from_binary.positions, kStlPositions);
+  EXPECT_EQ(from_binary.triangles, kStlTriangles);
 }
 
 TEST_F(IoStl, Errors) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -112,8 +113,9 @@ TEST(MeshReport, CountsOnAGridAndASphere) {
   EXPECT_EQ(r.components, 1u);
   EXPECT_EQ(r.surface_vertices, 20u);
   EXPECT_EQ(r.saddle_vertices, 0u);
-  EXPECT_EQ(r.faces_repeating_a_vertex + r.degenerate_faces + r.zero_length_edges + r.unreferenced_vertices +
-                r.duplicate_positions + r.welded_vertices + r.non_manifold_edges + r.non_manifold_vertices,
+  EXPECT_EQ(r.faces_repeating_a_vertex + r.duplicate_faces + r.degenerate_faces + r.zero_length_edges +
+                r.unreferenced_vertices + r.duplicate_positions + r.welded_vertices + r.non_manifold_edges +
+                r.non_manifold_vertices,
             0u);
 
   const exactgeo::Mesh sphere(exactgeo::make_icosphere(2));
@@ -130,20 +132,34 @@ TEST(MeshReport, MatchesIndependentCountsOnSharedMeshes) {
     const MeshSoup soup = *exactgeo_test::load_shared_mesh(name);
     if (face_count(soup) > 70'000) continue;
     const exactgeo::MeshReport r = exactgeo::Mesh(soup).report();
+    // The faces kept: neither repeating a vertex nor with the vertex set of an earlier kept face.
+    MeshSoup kept{soup.positions, {}};
+    std::set<std::array<std::uint32_t, 3>> vertex_sets;
+    std::size_t repeating = 0, duplicates = 0;
+    for (std::size_t f = 0; f < face_count(soup); ++f) {
+      const std::uint32_t a = soup.triangles[3 * f], b = soup.triangles[3 * f + 1], c = soup.triangles[3 * f + 2];
+      std::array<std::uint32_t, 3> set = {a, b, c};
+      std::sort(set.begin(), set.end());
+      if (exactgeo_test::repeats_a_vertex(soup, f))
+        ++repeating;
+      else if (!vertex_sets.insert(set).second)
+        ++duplicates;
+      else
+        add_triangle(kept, a, b, c);
+    }
     std::size_t boundary = 0, non_manifold = 0;
     std::vector<std::uint8_t> used(vertex_count(soup), 0);
-    for (const exactgeo_test::MeshEdge& e : exactgeo_test::unique_edges(soup)) {
+    for (const exactgeo_test::MeshEdge& e : exactgeo_test::unique_edges(kept)) {
       boundary += e.faces == 1;
       non_manifold += e.faces > 2;
       used[e.low] = used[e.high] = 1;
     }
-    std::size_t repeating = 0;
-    for (std::size_t f = 0; f < face_count(soup); ++f) repeating += exactgeo_test::repeats_a_vertex(soup, f);
-    const auto split = exactgeo_test::non_manifold_vertices(soup);
+    const auto split = exactgeo_test::non_manifold_vertices(kept);
     EXPECT_EQ(r.vertices, vertex_count(soup));
     EXPECT_EQ(r.faces, face_count(soup));
     EXPECT_EQ(r.faces_repeating_a_vertex, repeating);
-    EXPECT_EQ(r.faces_used, face_count(soup) - repeating);
+    EXPECT_EQ(r.duplicate_faces, duplicates);
+    EXPECT_EQ(r.faces_used, face_count(soup) - repeating - duplicates);
     EXPECT_EQ(r.boundary_edges, boundary);
     EXPECT_EQ(r.non_manifold_edges, non_manifold);
     EXPECT_EQ(r.non_manifold_vertices, std::size_t(std::count(split.begin(), split.end(), 1)));
@@ -228,6 +244,61 @@ TEST_P(MeshPolicy, FacesRepeatingAVertexAreDroppedAndCounted) {
 
   EXPECT_TRUE(distances_match(run(soup, 3).distances,
                               euclidean_where(soup, 3, [&](std::uint32_t v) { return v != lonely; }), kExact));
+}
+
+// A double-sided export lists every face twice. Kept, each edge had four faces and was cut, shattering the
+// surface (doubling spot.obj left 2923 of its 2930 vertices at +inf). Duplicates are dropped, whatever their
+// corner order and orientation, and the surface is exactly the single-sided one.
+TEST_P(MeshPolicy, DuplicateFacesAreDroppedAndCounted) {
+  MeshSoup terrain = unit_grid(6, [](double x, double y) { return Vec3{x, y, 0.3 * std::sin(x) * std::cos(y)}; });
+  for (const MeshSoup& single : {exactgeo::make_bumpy_torus(24, 10), terrain}) {
+    const std::size_t faces = face_count(single);
+    const std::vector<double> expected = run(single, 1).distances;
+    // Every face again after all of them, in the same order and reversed; and each right after itself,
+    // rotated.
+    MeshSoup same = single, reversed = single, interleaved = single;
+    interleaved.triangles.clear();
+    for (std::size_t f = 0; f < faces; ++f) {
+      const std::uint32_t a = single.triangles[3 * f], b = single.triangles[3 * f + 1], c = single.triangles[3 * f + 2];
+      add_triangle(same, a, b, c);
+      add_triangle(reversed, a, c, b);
+      add_triangle(interleaved, a, b, c);
+      add_triangle(interleaved, b, c, a);
+    }
+    for (const MeshSoup* doubled : {&same, &reversed, &interleaved}) {
+      const exactgeo::MeshReport r = exactgeo::Mesh(*doubled).report();
+      EXPECT_EQ(r.faces, 2 * faces);
+      EXPECT_EQ(r.duplicate_faces, faces);
+      EXPECT_EQ(r.faces_used, faces);
+      EXPECT_EQ(r.non_manifold_edges, 0u);
+      EXPECT_EQ(r.components, 1u);
+      const std::vector<double> d = run(*doubled, 1).distances;
+      EXPECT_EQ(d, expected);  // bit for bit
+    }
+    // A point on a dropped duplicate is the same point on the kept face: the weights follow the corners.
+    const exactgeo::Mesh mesh(reversed);
+    const exactgeo::SurfacePoint on_kept{2, {0.2, 0.3, 0.5}};
+    const exactgeo::SurfacePoint on_duplicate{static_cast<std::uint32_t>(faces + 2), {0.2, 0.5, 0.3}};
+    EXPECT_EQ(exactgeo::point_position(mesh, on_duplicate), exactgeo::point_position(mesh, on_kept));
+    const std::vector<double> from_kept =
+        exactgeo::geodesic_distance(mesh, std::span(&on_kept, 1), GetParam()).distances;
+    EXPECT_EQ(exactgeo::geodesic_distance(mesh, std::span(&on_duplicate, 1), GetParam()).distances, from_kept);
+  }
+}
+
+// Only the same vertex set is a duplicate: faces sharing two vertices, or the same positions under other
+// vertex indices (unless welded), are not.
+TEST(MeshReport, DuplicateFacesNeedTheSameThreeVertices) {
+  MeshSoup soup = unit_grid(2);
+  const std::size_t faces = face_count(soup);
+  const std::uint32_t a = soup.triangles[0], b = soup.triangles[1], c = soup.triangles[2];
+  const std::uint32_t c_copy = add_vertex(soup, vertex_position(soup, c));
+  add_triangle(soup, a, b, c_copy);
+  EXPECT_EQ(exactgeo::Mesh(soup).report().duplicate_faces, 0u);
+  EXPECT_EQ(exactgeo::Mesh(soup).report().faces_used, faces + 1);
+  const exactgeo::MeshReport welded = exactgeo::Mesh(soup, {.weld_duplicate_positions = true}).report();
+  EXPECT_EQ(welded.duplicate_faces, 1u);
+  EXPECT_EQ(welded.faces_used, faces);
 }
 
 // A flat grid with a zero-area sliver: face (a, b, c) across the interior edge ab is split at the edge's
@@ -470,6 +541,20 @@ TEST_P(MeshPolicy, WeldMergesASeam) {
   const std::uint32_t right_copy = left + 3 * 7;  // (6, 3) in the right half
   ASSERT_EQ(vertex_position(soup, right_copy), (Vec3{6, 3, 0}));
   EXPECT_TRUE(distances_match(run(soup, right_copy, weld).distances, euclidean(soup, right_copy), kExact));
+}
+
+// Welding compares positions by value, like the STL reader: a seam whose copies write -0 where the others
+// write 0 is still one seam.
+TEST_P(MeshPolicy, WeldTreatsMinusZeroAsZero) {
+  MeshSoup soup = unit_grid(6, [](double x, double y) { return Vec3{x - 6, y, 0}; });
+  append(soup, unit_grid(6, [](double x, double y) { return Vec3{x == 0 ? -0.0 : x, y, -0.0}; }));
+  const std::uint32_t source = vertex_at(soup, {-4, 3, 0});
+  const exactgeo::MeshOptions weld{.weld_duplicate_positions = true};
+  const exactgeo::MeshReport welded = exactgeo::Mesh(soup, weld).report();
+  EXPECT_EQ(welded.duplicate_positions, 7u);
+  EXPECT_EQ(welded.welded_vertices, 7u);
+  EXPECT_EQ(welded.components, 1u);
+  EXPECT_TRUE(distances_match(run(soup, source, weld).distances, euclidean(soup, source), kExact));
 }
 
 }  // namespace

@@ -3,12 +3,19 @@
 // Policy for real-world input (reported in MeshReport and by `exactgeo info`):
 // - vertices used by no face are kept, so output order never changes; their distance is +inf;
 // - faces that repeat a vertex index are dropped and counted;
+// - faces with the same three vertices as an earlier face (in any order, so of either orientation: a
+//   double-sided export) are dropped and counted; a surface point on one is taken as on the kept face;
 // - zero-area faces and zero-length edges are kept and handled by the engine without NaN;
 // - edges shared by more than two faces are cut (each face sees a boundary there), and vertices whose
 //   faces then form several separate fans are split into one surface vertex per fan; distances are exact
 //   on that manifold surface, and an input vertex's distance is the smallest over its copies;
 // - face orientation is irrelevant: an edge shared by two faces joins them whatever their winding;
-// - vertices with identical positions stay apart unless MeshOptions::weld_duplicate_positions is set.
+// - vertices with identical positions stay apart unless MeshOptions::weld_duplicate_positions is set;
+// - any finite coordinates work, from subnormal to the largest double: the engine runs on the positions
+//   scaled by a power of two (exactly, and only when the mesh's extent is beyond about 1e12 or below 1e-12),
+//   and distances, path lengths and points come back in the input's units; a distance beyond the largest
+//   double is refused (Error invalid_mesh). A mesh far from the origin keeps the precision its coordinates
+//   have (at an offset of 1e6, about 1e-10 absolute), no more.
 #pragma once
 
 #include <cstddef>
@@ -40,6 +47,7 @@ struct MeshReport {
   std::size_t faces = 0;
   std::size_t faces_used = 0;
   std::size_t faces_repeating_a_vertex = 0;
+  std::size_t duplicate_faces = 0;
   std::size_t degenerate_faces = 0;
   std::size_t zero_length_edges = 0;
   std::size_t unreferenced_vertices = 0;
@@ -63,6 +71,7 @@ constexpr void for_each_report_field(Visit&& visit) {
   visit("faces", &R::faces, "input triangles");
   visit("faces_used", &R::faces_used, "triangles kept (input minus dropped)");
   visit("faces_repeating_a_vertex", &R::faces_repeating_a_vertex, "dropped: a triangle naming one vertex twice");
+  visit("duplicate_faces", &R::duplicate_faces, "dropped: the same three vertices as an earlier triangle");
   visit("degenerate_faces", &R::degenerate_faces, "kept: zero area (collinear or coincident corners)");
   visit("zero_length_edges", &R::zero_length_edges, "kept: edges whose two end positions coincide");
   visit("unreferenced_vertices", &R::unreferenced_vertices, "used by no kept face; distance +inf");

@@ -1,0 +1,183 @@
+// Shortest paths as a seeded property test: on height fields over flat grids (random bumps and checkerboards,
+// whose symmetric geodesics run exactly through saddle vertices) of several sizes and amplitudes, the path to
+// every vertex has the length of its distance, runs from the source to the vertex, and each of its segments
+// lies in one face. Each test runs under every variant and pruning-rule combination.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "exactgeo/error.hpp"
+#include "exactgeo/geodesic.hpp"
+#include "exactgeo/mesh.hpp"
+#include "exactgeo/shapes.hpp"
+#include "exactgeo/surface_point.hpp"
+#include "test_meshes.hpp"
+
+namespace {
+
+using exactgeo::GeodesicPath;
+using exactgeo::MeshSoup;
+using exactgeo::PathPointLocation;
+using exactgeo_test::Random;
+using exactgeo_test::Vec3;
+
+constexpr double kPathLength = 1e-9;  // path length against distance, relative
+constexpr double kOnLocation = 1e-12;  // a point against the position its location names, relative to the mesh
+
+struct HeightField {
+  std::string name;
+  MeshSoup soup;
+};
+
+// make_grid(n, n, 1, 1) with heights: +-amplitude alternating like a checkerboard over the vertices, or
+// uniform random in [-amplitude, amplitude].
+HeightField height_field(int n, double amplitude, bool checkerboard, std::uint64_t seed) {
+  MeshSoup soup = exactgeo::make_grid(n, n, 1.0, 1.0);
+  Random random(seed);
+  for (std::size_t v = 0; v < exactgeo_test::vertex_count(soup); ++v) {
+    const double x = soup.positions[3 * v], y = soup.positions[3 * v + 1];
+    soup.positions[3 * v + 2] = checkerboard ? amplitude * (std::lround(n * x + n * y) % 2 == 0 ? 1 : -1)
+                                             : amplitude * random.uniform(-1, 1);
+  }
+  return {std::string(checkerboard ? "checkerboard" : "bumps") + " " + std::to_string(n) + "x" + std::to_string(n) +
+              " amplitude " + std::to_string(amplitude),
+          std::move(soup)};
+}
+
+const std::vector<HeightField>& height_fields() {
+  static const std::vector<HeightField> all = [] {
+    std::vector<HeightField> list;
+    std::uint64_t seed = 1;
+    for (const int n : {4, 9, 16})
+      for (const double amplitude : {0.01, 0.03, 0.1, 0.3})
+        for (const bool checkerboard : {true, false}) list.push_back(height_field(n, amplitude, checkerboard, seed++));
+    return list;
+  }();
+  return all;
+}
+
+// The faces around each vertex, and the faces a path location lies in (a vertex's or an edge's faces, or the
+// face itself).
+std::vector<std::vector<std::uint32_t>> faces_around_vertices(const MeshSoup& soup) {
+  std::vector<std::vector<std::uint32_t>> faces(exactgeo_test::vertex_count(soup));
+  for (std::uint32_t f = 0; f < exactgeo_test::face_count(soup); ++f)
+    for (int k = 0; k < 3; ++k) faces[soup.triangles[3 * f + k]].push_back(f);
+  return faces;
+}
+
+std::vector<std::uint32_t> faces_at(const std::vector<std::vector<std::uint32_t>>& around,
+                                    const PathPointLocation& location) {
+  switch (location.kind) {
+    case PathPointLocation::Kind::vertex:
+      return around[location.vertex];
+    case PathPointLocation::Kind::edge: {
+      std::vector<std::uint32_t> faces;
+      for (std::uint32_t f : around[location.from])
+        if (std::find(around[location.to].begin(), around[location.to].end(), f) != around[location.to].end())
+          faces.push_back(f);
+      return faces;
+    }
+    case PathPointLocation::Kind::face:
+      return {location.face_point.face};
+  }
+  return {};
+}
+
+Vec3 located_position(const exactgeo::Mesh& mesh, const PathPointLocation& location) {
+  const auto p = mesh.positions();
+  const auto at = [&](std::uint32_t v) { return Vec3{p[3 * v], p[3 * v + 1], p[3 * v + 2]}; };
+  switch (location.kind) {
+    case PathPointLocation::Kind::vertex:
+      return at(location.vertex);
+    case PathPointLocation::Kind::edge: {
+      const Vec3 a = at(location.from), b = at(location.to);
+      return {a[0] + location.t * (b[0] - a[0]), a[1] + location.t * (b[1] - a[1]), a[2] + location.t * (b[2] - a[2])};
+    }
+    case PathPointLocation::Kind::face:
+      return exactgeo::point_position(mesh, location.face_point);
+  }
+  return {};
+}
+
+// Every way a path can be wrong, counted over all targets of a run; the first of each kind is kept.
+struct Violations {
+  std::size_t count = 0;
+  std::string first;
+  void add(const std::string& what) {
+    if (count++ == 0) first = what;
+  }
+};
+
+class PathsOf : public testing::TestWithParam<exactgeo::GeodesicOptions> {};
+
+INSTANTIATE_TEST_SUITE_P(Paths, PathsOf, testing::ValuesIn(exactgeo_test::kAllVariants), exactgeo_test::variant_name);
+
+TEST_P(PathsOf, EveryVertexPathHasTheDistanceAsLengthAndStaysInFaces) {
+  for (const HeightField& field : height_fields()) {
+    SCOPED_TRACE(field.name);
+    const exactgeo::Mesh mesh(field.soup);
+    const std::vector<std::vector<std::uint32_t>> around = faces_around_vertices(field.soup);
+    const std::size_t n = mesh.vertex_count();
+    // The centre vertex (the checkerboard's worst case: its geodesics along the axes pass through vertices)
+    // and a corner.
+    for (const std::uint32_t source : {static_cast<std::uint32_t>(n / 2), 0u}) {
+      exactgeo::GeodesicSolver solver(mesh);
+      const std::uint32_t sources[] = {source};
+      const exactgeo::GeodesicResult& result = solver.solve(sources, {}, GetParam());
+      Violations throws, nan, length, ends, off_location, across_faces;
+      for (std::uint32_t v = 0; v < n; ++v) {
+        const double d = result.distances[v];
+        const std::string at = "source " + std::to_string(source) + ", vertex " + std::to_string(v);
+        if (!std::isfinite(d)) {
+          nan.add(at + ": distance " + std::to_string(d));
+          continue;
+        }
+        GeodesicPath path;
+        try {
+          path = solver.path_to_vertex(v);
+        } catch (const exactgeo::Error& error) {
+          throws.add(at + ": " + error.what());
+          continue;
+        }
+        if (!(std::abs(path.length - d) <= kPathLength * d)) {
+          char text[128];
+          std::snprintf(text, sizeof text, ": path length %.12g, distance %.12g", path.length, d);
+          length.add(at + text);
+        }
+        if (path.points.size() != path.locations.size() || path.points.empty()) {
+          ends.add(at + ": " + std::to_string(path.points.size()) + " points");
+          continue;
+        }
+        const PathPointLocation& first = path.locations.front();
+        const PathPointLocation& last = path.locations.back();
+        if (first.kind != PathPointLocation::Kind::vertex || first.vertex != source ||
+            last.kind != PathPointLocation::Kind::vertex || last.vertex != v)
+          ends.add(at + ": does not run from the source to the vertex");
+        for (std::size_t i = 0; i < path.points.size(); ++i) {
+          const Vec3& p = path.points[i];
+          if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) nan.add(at + ": point " + std::to_string(i));
+          if (!(exactgeo_test::distance(p, located_position(mesh, path.locations[i])) <= kOnLocation))
+            off_location.add(at + ": point " + std::to_string(i) + " is not where its location says");
+          if (i == 0) continue;
+          const std::vector<std::uint32_t> here = faces_at(around, path.locations[i]);
+          const std::vector<std::uint32_t> before = faces_at(around, path.locations[i - 1]);
+          if (std::none_of(here.begin(), here.end(),
+                           [&](std::uint32_t f) { return std::find(before.begin(), before.end(), f) != before.end(); }))
+            across_faces.add(at + ": segment " + std::to_string(i) + " lies in no face");
+        }
+      }
+      EXPECT_EQ(throws.count, 0u) << throws.first;
+      EXPECT_EQ(nan.count, 0u) << nan.first;
+      EXPECT_EQ(length.count, 0u) << length.first;
+      EXPECT_EQ(ends.count, 0u) << ends.first;
+      EXPECT_EQ(off_location.count, 0u) << off_location.first;
+      EXPECT_EQ(across_faces.count, 0u) << across_faces.first;
+    }
+  }
+}
+
+}  // namespace
