@@ -17,6 +17,8 @@
 #include <span>
 #include <vector>
 
+#include "exactgeo/export.hpp"
+
 namespace exactgeo {
 
 namespace detail {
@@ -52,7 +54,7 @@ struct MeshReport {
   std::size_t saddle_vertices = 0;              // interior vertices with angle sum above 2*pi
 };
 
-class Mesh {
+class EXACTGEO_API Mesh {
  public:
   // positions: vertex_count * 3 coordinates (x0 y0 z0 x1 ...); triangles: face_count * 3 vertex indices.
   // Throws exactgeo::Error(invalid_mesh) naming the element for NaN/inf coordinates, indices out of range,
