@@ -3,7 +3,10 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: deps build python demo test bench bench-quick paper clean
+# The sanitizer build: clang (for libFuzzer), its own build folder.
+ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
+
+.PHONY: deps build python demo test test-asan bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -25,9 +28,21 @@ demo: build
 
 test: build python
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	$(MAKE) test-asan
 	python3 -m pip install -q -r bench/requirements-test.txt
 	python3 -m pytest -q bench
 	EXACTGEO_BUILD_DIR=$(BUILD_DIR) python3 -m pytest -q python/tests
+
+# The engine's unit tests (exactgeo_tests) under AddressSanitizer and UndefinedBehaviorSanitizer with the
+# invariant checks (EXACTGEO_ASSERT) on, and the mesh readers fuzzed for a few seconds from
+# tests/fuzz/corpus. -O1 keeps the sanitized tests fast; the oracle tests are left to the main build, where
+# they already take minutes.
+test-asan: deps
+	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DEXACTGEO_SANITIZE=ON -DEXACTGEO_ASSERTIONS=ON -DEXACTGEO_BUILD_FUZZERS=ON \
+	  -DEXACTGEO_BUILD_CLI=OFF -DEXACTGEO_BUILD_ORACLE=OFF $(CMAKE_FLAGS)
+	cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
+	cd $(ASAN_BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
 # Timings against the other solvers, written to bench/results/ (see bench/README.md).
 bench: build python

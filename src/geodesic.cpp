@@ -10,14 +10,15 @@
 #include "vtp_engine.hpp"
 
 namespace exactgeo {
-namespace {
 
-void check_options(const GeodesicOptions& options) {
+void detail::check_options(const GeodesicOptions& options) {
   algorithm_name(options.algorithm);  // throws for a value outside the enum
   if (!(options.max_distance >= 0))
     throw Error(ErrorCode::invalid_argument,
                 "max_distance must be a non-negative number, not " + std::to_string(options.max_distance));
 }
+
+namespace {
 
 std::vector<detail::LocatedPoint> locate_all(const detail::SurfaceMesh& surface, std::span<const SurfacePoint> points,
                                              const char* what) {
@@ -79,7 +80,7 @@ const GeodesicResult& GeodesicSolver::solve(std::span<const std::uint32_t> sourc
 
 const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> sites,
                                           std::span<const SurfacePoint> targets, const GeodesicOptions& options) {
-  check_options(options);
+  detail::check_options(options);
   const detail::SurfaceMesh& surface = mesh_->surface();
   const std::vector<detail::LocatedPoint> located_targets = locate_all(surface, targets, "target");
   std::uint32_t source_count = 0;

@@ -13,14 +13,14 @@
 #include "exactgeo/error.hpp"
 #include "stop.hpp"
 #include "surface_point.hpp"
+#include "vtp_engine.hpp"
 
 namespace exactgeo {
 
 void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                              const MatrixOptions& options,
                              const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume) {
-  if (!(options.geodesic.max_distance >= 0))
-    throw Error(ErrorCode::invalid_argument, "max_distance must be a non-negative number");
+  detail::check_options(options.geodesic);
   for (std::uint32_t v : source_vertices) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
   const std::size_t columns = mesh.vertex_count();
   // More threads than rows would only hold idle solvers (each as large as the mesh).

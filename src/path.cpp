@@ -7,6 +7,7 @@
 
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
+#include "assert.hpp"
 #include "surface_point.hpp"
 #include "tolerances.hpp"
 #include "vtp_engine.hpp"
@@ -237,6 +238,7 @@ GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
   std::uint32_t copy = detail::kNone;
   for (std::uint32_t s : mesh_->surface().copies_of(vertex))
     if (copy == detail::kNone || engine_->distances()[s] < engine_->distances()[copy]) copy = s;
+  EXACTGEO_ASSERT(copy != detail::kNone);
   GeodesicPath path = detail::PathBuilder(*mesh_, *engine_).trace_vertex(copy);
   path.source = result_.nearest_source[vertex];
   return path;

@@ -7,9 +7,6 @@
 namespace exactgeo::detail {
 namespace {
 
-// Plain sqrt of squares: coordinates are mesh-sized, far from overflow, and std::hypot's scaling is slow.
-double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
-
 double distance_at(const Window& w, double x) { return w.sigma + length(x - w.px, w.py); }
 
 // Whether sqrt(dx^2 + dy_squared) > bound, without the square root (bound may be +inf).
@@ -67,15 +64,18 @@ double hit_side(double px, double py, double x, double cos_angle, double sin_ang
 }
 
 // Crosses the part [x0, x1] of `w` to the side leaving the origin at the given angle. The frame is AB's, or
-// its mirror image (x -> length - x) for the side BC.
+// its mirror image (x -> length - x) for the side BC. Rays that leave through that side have their
+// pseudo-source on the triangle's side of it: rotated below it up to `rounding`, then clamped there.
 [[gnu::always_inline]] inline Window cross_to_side(const Window& w, double px, double x0, double x1, double cos_angle, double sin_angle,
-                     double side_length) {
+                     double side_length, [[maybe_unused]] double rounding) {
   Window out;
   out.b0 = hit_side(px, w.py, x0, cos_angle, sin_angle, side_length);
   out.b1 = hit_side(px, w.py, x1, cos_angle, sin_angle, side_length);
   // Rotate by -angle: the side becomes the x axis, the triangle (and the pseudo-source) lie below it.
   out.px = px * cos_angle + w.py * sin_angle;
-  out.py = std::min(w.py * cos_angle - px * sin_angle, 0.0);
+  const double y = w.py * cos_angle - px * sin_angle;
+  EXACTGEO_ASSERT(y <= rounding);
+  out.py = std::min(y, 0.0);
   out.sigma = w.sigma;
   out.pseudo_source = w.pseudo_source;
   return out;
@@ -226,6 +226,7 @@ void keep_if_not_beaten(std::span<Window> windows, std::size_t& count, std::size
 }  // namespace
 
 ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::vector<double>& splits) {
+  EXACTGEO_ASSERT(!list.empty());
   // Two passes, so that the divisions and square roots of different windows overlap in the pipeline
   // instead of queuing behind the running minimum.
   splits.resize(list.size());
@@ -252,6 +253,7 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
   const double cos_a = length_ac_frame > 0 ? f.apex_x / length_ac_frame : 1, sin_a = length_ac_frame > 0 ? f.apex_y / length_ac_frame : 0;
   const double cos_b = length_bc_frame > 0 ? (f.length - f.apex_x) / length_bc_frame : 1,
                sin_b = length_bc_frame > 0 ? f.apex_y / length_bc_frame : 0;
+  EXACTGEO_ASSERT(splits.size() == list.size() && reach.window < list.size());
   std::uint64_t propagations = 0;
   const std::size_t bc_begin = to_bc.size();
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -267,14 +269,14 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
     }
     if (left_end - w.b0 > tol.min_width) {
       ++propagations;
-      Window out = cross_to_side(w, w.px, w.b0, left_end, cos_a, sin_a, f.length_ac);
+      Window out = cross_to_side(w, w.px, w.b0, left_end, cos_a, sin_a, f.length_ac, tol.min_width);
       if (check_with_vertices(out, f.length_ac, corners.a, corners.c, tol)) to_ac.push_back(out);
     }
     if (w.b1 - right_start > tol.min_width) {
       ++propagations;
       // Mirror x -> length - x so that B is the origin; the piece's ends swap.
       Window out = cross_to_side(w, f.length - w.px, f.length - w.b1, f.length - right_start, cos_b, sin_b,
-                                 f.length_bc);
+                                 f.length_bc, tol.min_width);
       if (check_with_vertices(out, f.length_bc, corners.b, corners.c, tol)) to_bc.push_back(out);
     }
   }
@@ -286,6 +288,7 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
 
 std::size_t prune_neighbours(std::span<Window> windows, std::size_t already_pruned, const Tolerances& tol) {
   // The kept windows form a prefix of the span itself: it never grows past the read position.
+  EXACTGEO_ASSERT(already_pruned <= windows.size());
   std::size_t count = already_pruned;
   for (std::size_t i = already_pruned; i < windows.size(); ++i) keep_if_not_beaten(windows, count, i, tol);
   return count;

@@ -3,13 +3,18 @@
 // the edge's vertices (Case 12) and against their neighbours in the list (Rules 2 and 3).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "assert.hpp"
 #include "windows.hpp"
 
 namespace exactgeo::detail {
+
+// Plain sqrt of squares: coordinates are mesh-sized, far from overflow, and std::hypot's scaling is slow.
+inline double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
 
 // Triangle ABC seen from halfedge AB: A at the origin, B at (length, 0), C at (apex_x, apex_y).
 struct FaceFrame {
@@ -60,6 +65,9 @@ std::size_t prune_neighbours(std::span<Window> windows, std::size_t already_prun
 // Re-expresses a window on an edge in the frame of the halfedge on the other side of that edge: x runs
 // from the same end (`reversed` false) or from the other end (true); the pseudo-source stays below.
 inline Window to_twin_frame(Window w, double edge_length, bool reversed) {
+  // Every window that changes frames lies on its edge, its pseudo-source below it (clamped there by
+  // cross_face and by the windows' other makers).
+  EXACTGEO_ASSERT(0 <= w.b0 && w.b0 <= w.b1 && w.b1 <= edge_length && w.py <= 0 && w.sigma >= 0);
   if (reversed) {
     const double b0 = edge_length - w.b1;
     w.b1 = edge_length - w.b0;

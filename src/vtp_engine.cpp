@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "assert.hpp"
 #include "stop.hpp"
 #include "tolerances.hpp"
 
@@ -74,8 +75,6 @@ class ShadowCone {
   int count_;
   double period_;  // the fan's total angle for a closed fan, 0 for an open one
 };
-
-double length(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
 
 // Adds the time until it goes out of scope to `bucket`, if timing is on; costs one branch otherwise.
 class PhaseTimer {
@@ -181,6 +180,8 @@ void VtpEngine::run_vertex_sorted() {
       const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
       v = vertex_queue_.pop();
     }
+    // A vertex's state only moves forward (unseen, queued, inside): only queued vertices are in the queue.
+    EXACTGEO_ASSERT(state_[v] == VertexState::queued);
     state_[v] = VertexState::inside;
     ++iteration_;
     ++stats_.vertex_pops;
@@ -250,6 +251,7 @@ void VtpEngine::join_face(std::uint32_t f) {
   drain();
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const std::uint32_t v = mesh_.tail(h);
+    EXACTGEO_ASSERT(faces_to_join_[v] > 0 && state_[v] != VertexState::inside);
     if (--faces_to_join_[v] != 0) continue;
     state_[v] = VertexState::inside;
     if (bends_paths(v) && distance_[v] < HUGE_VAL) {
@@ -316,6 +318,7 @@ void VtpEngine::push_vertex(std::uint32_t v, double d) {
 
 // A path of length d reaches v, arriving as `arrival` says.
 void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
+  EXACTGEO_ASSERT(d >= 0);  // and not NaN
   if (!(d < distance_[v])) return;
   if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) targets_changed_ = true;
   distance_[v] = d;
@@ -376,6 +379,7 @@ void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
 // shortened around v): only that shadow cone gets windows, which for a scan's many near-flat saddles is
 // a sliver. Sources, and vertices without reliable angles, send windows everywhere.
 void VtpEngine::emit(std::uint32_t v) {
+  EXACTGEO_ASSERT(distance_[v] < HUGE_VAL);  // it was reached: queued, or enclosed with a distance
   if (distance_[v] > cutoff_) return;
   emitted_at_[v] = distance_[v];
   ++stats_.pseudo_source_emissions;
@@ -425,6 +429,7 @@ void VtpEngine::cross(std::uint32_t h) {
     const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
     reach = reach_apex(incoming, frame, splits_);
   }
+  EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
   const Window& best = incoming[reach.window];
   relax(c, reach.distance, Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py});
   if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
@@ -520,6 +525,8 @@ void VtpEngine::register_targets(std::span<const LocatedPoint> targets) {
   std::vector<std::uint32_t> fill(face_target_offsets_.begin(), face_target_offsets_.end() - 1);
   for (std::uint32_t t = 0; t < targets_.size(); ++t)
     if (targets_[t].vertex == kNone) face_targets_[fill[targets_[t].face]++] = t;
+  // Each face's targets fill exactly its slots [offsets[f], offsets[f + 1]).
+  EXACTGEO_ASSERT(std::equal(fill.begin(), fill.end(), face_target_offsets_.begin() + 1));
 }
 
 void VtpEngine::offer_to_target(std::uint32_t target, double d, const Arrival& arrival) {

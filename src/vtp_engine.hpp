@@ -48,6 +48,10 @@ struct Arrival {
   double crossing = 0, px = 0, py = 0;
 };
 
+// Throws Error(invalid_argument) for options no run can use: an algorithm value outside the enum, a
+// max_distance that is negative or NaN. The one check of them, made before any work.
+void check_options(const GeodesicOptions& options);
+
 class VtpEngine {
  public:
   explicit VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh) {}

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "assert.hpp"
 #include "surface_mesh.hpp"
 
 namespace exactgeo::detail {
@@ -21,6 +22,7 @@ class WavefrontQueue {
 
   // Inserts `id` with `key`, or lowers its key if it is queued with a larger one.
   void push_or_decrease(std::uint32_t id, double key) {
+    EXACTGEO_ASSERT(id < position_.size() && key >= 0);  // a NaN key would break the heap order
     std::uint32_t i = position_[id];
     if (i == kNone) {
       i = static_cast<std::uint32_t>(heap_.size());
@@ -33,6 +35,7 @@ class WavefrontQueue {
     sift_up(i);
   }
   std::uint32_t pop() {
+    EXACTGEO_ASSERT(!heap_.empty() && is_heap());
     const std::uint32_t top = heap_.front().id;
     position_[top] = kNone;
     const Entry last = heap_.back();
@@ -79,6 +82,14 @@ class WavefrontQueue {
       i = child;
     }
     place(i, e);
+  }
+
+  // Every entry comes after its parent and is where position_ says: O(size), checked at each pop where
+  // assertions are on (the queue holds the wavefront, a small part of the mesh).
+  bool is_heap() const {
+    for (std::uint32_t i = 0; i < heap_.size(); ++i)
+      if (position_[heap_[i].id] != i || (i > 0 && before(heap_[i], heap_[(i - 1) / 2]))) return false;
+    return true;
   }
 
   std::vector<Entry> heap_;

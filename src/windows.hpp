@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "assert.hpp"
 #include "surface_mesh.hpp"
 
 namespace exactgeo::detail {
@@ -84,6 +85,7 @@ class WindowLists {
   }
   void shrink_to(std::uint32_t h, std::size_t size) {
     List& list = lists_[h];
+    EXACTGEO_ASSERT(size <= list.size);
     live_ -= list.size - size;
     list.size = static_cast<std::uint32_t>(size);
   }

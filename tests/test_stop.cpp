@@ -33,11 +33,12 @@ TEST(Stop, AStoppedTokenEndsEveryVariantAndTheSolverStaysUsable) {
   const Mesh& mesh = large_torus();
   std::stop_source stop;
   stop.request_stop();
-  for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames) {
+  for (const auto& entry : exactgeo::kAlgorithmNames) {
+    const exactgeo::Algorithm algorithm = entry.first;  // a plain variable: lambdas capture it on every compiler
     exactgeo::GeodesicSolver solver(mesh);
     expect_cancelled([&] { solver.solve(std::vector<std::uint32_t>{0}, {}, {.algorithm = algorithm, .stop = stop.get_token()}); });
     const exactgeo::GeodesicResult& again = solver.solve(std::vector<std::uint32_t>{0}, {}, {.algorithm = algorithm});
-    EXPECT_EQ(again.distances, exactgeo::geodesic_distance(mesh, 0, {.algorithm = algorithm}).distances) << name;
+    EXPECT_EQ(again.distances, exactgeo::geodesic_distance(mesh, 0, {.algorithm = algorithm}).distances) << entry.second;
   }
 }
 

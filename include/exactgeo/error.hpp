@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "exactgeo/export.hpp"
+
 namespace exactgeo {
 
 enum class ErrorCode {
@@ -14,7 +16,7 @@ enum class ErrorCode {
   internal,          // a broken invariant inside the library: a bug, please report it
 };
 
-class Error : public std::runtime_error {
+class EXACTGEO_API Error : public std::runtime_error {
  public:
   Error(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
   ErrorCode code() const noexcept { return code_; }

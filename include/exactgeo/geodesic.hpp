@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "exactgeo/export.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/surface_point.hpp"
 
@@ -37,9 +38,9 @@ inline constexpr std::array<std::pair<Algorithm, std::string_view>, 4> kAlgorith
     {Algorithm::ftp, "ftp"},
     {Algorithm::opftp, "opftp"},
 }};
-std::string_view algorithm_name(Algorithm algorithm);
+EXACTGEO_API std::string_view algorithm_name(Algorithm algorithm);
 // Throws exactgeo::Error(invalid_argument) listing the known names.
-Algorithm parse_algorithm(std::string_view name);
+EXACTGEO_API Algorithm parse_algorithm(std::string_view name);
 
 struct GeodesicOptions {
   Algorithm algorithm = Algorithm::vtp;
@@ -147,7 +148,7 @@ struct GeodesicPath {
 
 // A reusable solver: owns the engine's buffers, so repeated runs on one mesh allocate nothing new, and
 // answers path queries about its last run. The mesh must outlive the solver.
-class GeodesicSolver {
+class EXACTGEO_API GeodesicSolver {
  public:
   explicit GeodesicSolver(const Mesh& mesh);
   ~GeodesicSolver();
@@ -189,14 +190,14 @@ class GeodesicSolver {
 
 // One-off queries. Distances from one source vertex (an input vertex index). Throws
 // exactgeo::Error(invalid_argument) if the index is out of range or names a vertex used by no face.
-GeodesicResult geodesic_distance(const Mesh& mesh, std::uint32_t source_vertex, const GeodesicOptions& options = {});
+EXACTGEO_API GeodesicResult geodesic_distance(const Mesh& mesh, std::uint32_t source_vertex, const GeodesicOptions& options = {});
 
 // Distances to the nearest of several source vertices, and which source that is.
-GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+EXACTGEO_API GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                  const GeodesicOptions& options = {});
 
 // Distances to the nearest of several sources anywhere on the surface.
-GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const SurfacePoint> sources,
+EXACTGEO_API GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const SurfacePoint> sources,
                                  const GeodesicOptions& options = {});
 
 }  // namespace exactgeo

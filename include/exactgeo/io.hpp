@@ -6,15 +6,16 @@
 #include <filesystem>
 #include <vector>
 
+#include "exactgeo/export.hpp"
 #include "exactgeo/mesh.hpp"
 
 namespace exactgeo {
 
 // Throws exactgeo::Error: io_error if the file cannot be read, invalid_mesh naming the file, the line
 // (text formats) or element (binary formats) and the reason for malformed content.
-MeshSoup read_mesh_soup(const std::filesystem::path& path);
+EXACTGEO_API MeshSoup read_mesh_soup(const std::filesystem::path& path);
 
 // read_mesh_soup followed by validation into a Mesh.
-Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options = {});
+EXACTGEO_API Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options = {});
 
 }  // namespace exactgeo

@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "exactgeo/export.hpp"
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/mesh.hpp"
 
@@ -23,12 +24,12 @@ struct MatrixOptions {
 // source_vertices[i] to every input vertex (+inf where unreachable or beyond max_distance), rows back to
 // back. At most one block is held in memory, so any number of sources fits. `consume` runs on the calling
 // thread. Throws exactgeo::Error(invalid_argument) for an invalid source or option before any work.
-void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+EXACTGEO_API void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                              const MatrixOptions& options,
                              const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume);
 
 // The whole matrix, sources x vertices, row-major.
-std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+EXACTGEO_API std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                     const MatrixOptions& options = {});
 
 // The finite entries of the matrix (with a cut-off most are +inf), in row-major order.
@@ -37,7 +38,7 @@ struct SparseDistances {
   std::vector<std::uint32_t> row, column;
   std::vector<double> distance;
 };
-SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+EXACTGEO_API SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                        const MatrixOptions& options = {});
 
 // Geodesic farthest-point sampling: starting from `first`, each next sample is the vertex farthest from all
@@ -52,12 +53,12 @@ struct Sampling {
   std::vector<double> distances;  // per input vertex: to the nearest sample (+inf where unreachable)
   std::vector<std::uint32_t> nearest_sample;  // per input vertex: index into samples, kNoSource if unreachable
 };
-Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first = 0,
+EXACTGEO_API Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::uint32_t first = 0,
                                  const GeodesicOptions& options = {},
                                  const std::function<void(std::size_t samples)>& progress = {});
 // The same from several given first samples, taken in their order (each one's radius its distance to the
 // ones before), then farthest points. A seed sampled twice gets radius 0.
-Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::span<const std::uint32_t> first_samples,
+EXACTGEO_API Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::span<const std::uint32_t> first_samples,
                                  const GeodesicOptions& options = {},
                                  const std::function<void(std::size_t samples)>& progress = {});
 

@@ -24,6 +24,8 @@
 #include <span>
 #include <vector>
 
+#include "exactgeo/export.hpp"
+
 namespace exactgeo {
 
 namespace detail {
@@ -85,7 +87,7 @@ constexpr void for_each_report_field(Visit&& visit) {
   visit("saddle_vertices", &R::saddle_vertices, "interior vertices with angle sum above 2*pi");
 }
 
-class Mesh {
+class EXACTGEO_API Mesh {
  public:
   // positions: vertex_count * 3 coordinates (x0 y0 z0 x1 ...); triangles: face_count * 3 vertex indices.
   // Throws exactgeo::Error(invalid_mesh) naming the element for NaN/inf coordinates, indices out of range,

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 
+#include "exactgeo/export.hpp"
 #include "exactgeo/mesh.hpp"
 
 namespace exactgeo {
@@ -23,14 +24,14 @@ inline constexpr double kBarycentricSnap = 1e-12;
 
 // The point at input vertex `vertex` (on the first kept triangle that uses it). Throws
 // exactgeo::Error(invalid_argument) if the index is out of range or the vertex is used by no kept triangle.
-SurfacePoint vertex_point(const Mesh& mesh, std::uint32_t vertex);
+EXACTGEO_API SurfacePoint vertex_point(const Mesh& mesh, std::uint32_t vertex);
 
 // The point (1 - t) * from + t * to on the edge between input vertices `from` and `to`, t in [0, 1] (on the
 // first kept triangle with that edge). Throws exactgeo::Error(invalid_argument) if no kept triangle has the
 // edge or t is outside [0, 1].
-SurfacePoint edge_point(const Mesh& mesh, std::uint32_t from, std::uint32_t to, double t);
+EXACTGEO_API SurfacePoint edge_point(const Mesh& mesh, std::uint32_t from, std::uint32_t to, double t);
 
 // Where the point lies in space. Throws like the queries do for an invalid point.
-std::array<double, 3> point_position(const Mesh& mesh, const SurfacePoint& point);
+EXACTGEO_API std::array<double, 3> point_position(const Mesh& mesh, const SurfacePoint& point);
 
 }  // namespace exactgeo

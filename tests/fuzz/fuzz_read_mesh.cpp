@@ -1,12 +1,7 @@
 // libFuzzer harness for the mesh readers. Every input is read as each format; each must return a soup whose
 // indices are in range and coordinates finite, or throw exactgeo::Error. Anything else (a crash, a sanitizer
 // report, a hang, another exception) is a bug.
-//
-//   apt-get install clang libclang-rt-14-dev
-//   CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DEXACTGEO_BUILD_FUZZERS=ON -DEXACTGEO_BUILD_TESTS=OFF \
-//       -DEXACTGEO_BUILD_CLI=OFF -DEXACTGEO_BUILD_ORACLE=OFF
-//   ninja -C build-fuzz exactgeo_fuzz_read_mesh
-//   build-fuzz/exactgeo_fuzz_read_mesh -max_len=4096 -timeout=2 corpus/
+// Built and run by `make test-asan` (see tests/fuzz/CMakeLists.txt).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
