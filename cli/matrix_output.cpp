@@ -51,31 +51,37 @@ class CsvMatrixWriter final : public FileMatrixWriter {
   std::size_t columns_;
 };
 
-// scipy.sparse CSR of the finite entries, for scipy.sparse.load_npz. A zip member's size is written before
-// its data, so the finite entries are gathered first and the archive written at the end.
+// scipy.sparse CSR of the finite entries, for scipy.sparse.load_npz. A zip member's size comes before its
+// data, so the entries and their columns grow in temporary files, and the archive is written at the end:
+// memory stays at a block of rows (and one offset per row).
 class NpzMatrixWriter final : public MatrixWriter {
  public:
   NpzMatrixWriter(const std::string& path, std::size_t rows, std::size_t columns)
       : output_(path), rows_(rows), columns_(columns) {}
   void write_rows(std::size_t, std::span<const double> rows) override {
+    std::vector<double> data;
+    std::vector<std::int32_t> indices;
     for (std::size_t r = 0; r < rows.size() / columns_; ++r) {
       for (std::size_t v = 0; v < columns_; ++v) {
         const double d = rows[r * columns_ + v];
         if (std::isinf(d)) continue;
-        data_.push_back(d);
-        indices_.push_back(static_cast<std::int32_t>(v));
+        data.push_back(d);
+        indices.push_back(static_cast<std::int32_t>(v));
       }
-      indptr_.push_back(static_cast<std::int64_t>(data_.size()));
+      indptr_.push_back(static_cast<std::int64_t>(entries_ + data.size()));
     }
+    entries_ += data.size();
+    data_.append(little_endian_bytes(data), data.size());
+    indices_.append(little_endian_bytes(indices), indices.size());
   }
   void finish() override {
     const std::vector<std::int64_t> shape = {static_cast<std::int64_t>(rows_), static_cast<std::int64_t>(columns_)};
     const std::vector<NpzMember> members = {
-        {"indices", "<i4", {indices_.size()}, little_endian_bytes(indices_)},
+        {"indices", "", {}, {}, indices_.finish()},
         {"indptr", "<i8", {indptr_.size()}, little_endian_bytes(indptr_)},
         {"format", "|S3", {}, {'c', 's', 'r'}},
         {"shape", "<i8", {2}, little_endian_bytes(shape)},
-        {"data", "<f8", {data_.size()}, little_endian_bytes(data_)},
+        {"data", "", {}, {}, data_.finish()},
     };
     write_npz(output_.temporary_path(), members);
     output_.commit();
@@ -84,9 +90,10 @@ class NpzMatrixWriter final : public MatrixWriter {
  private:
   OutputFile output_;
   std::size_t rows_, columns_;
-  std::vector<double> data_;
-  std::vector<std::int32_t> indices_;
+  GrowingNpy data_{"<f8"};
+  GrowingNpy indices_{"<i4"};
   std::vector<std::int64_t> indptr_ = {0};
+  std::size_t entries_ = 0;  // in the blocks before
 };
 
 std::unique_ptr<MatrixWriter> make_npy(const std::string& path, std::size_t rows, std::size_t columns) {

@@ -12,20 +12,45 @@
 namespace exactgeo::cli {
 
 // The .npy preamble and header for a C-ordered array: `descr` is NumPy's dtype string ('<f8', '<i4', '|S3').
-// A zero-dimensional array has an empty shape.
-std::string npy_header(std::string_view descr, std::span<const std::size_t> shape);
+// A zero-dimensional array has an empty shape. Padded with spaces to `length` bytes if that is longer (a
+// multiple of 64), so that a header written before the shape was known can be rewritten in place.
+std::string npy_header(std::string_view descr, std::span<const std::size_t> shape, std::size_t length = 0);
+
+// A whole .npy file: the header, then `data` (little-endian bytes of the shape's values).
+void write_npy(std::FILE* file, std::string_view descr, std::span<const std::size_t> shape,
+               std::span<const unsigned char> data);
 
 // Little-endian bytes of values, as .npy data.
 std::vector<unsigned char> little_endian_bytes(std::span<const double> values);
 std::vector<unsigned char> little_endian_bytes(std::span<const std::int32_t> values);
 std::vector<unsigned char> little_endian_bytes(std::span<const std::int64_t> values);
 
-// One member of an .npz archive: NAME.npy holding the array.
+// A 1-D .npy array of unknown length, written as it grows to an anonymous temporary file, so that memory
+// stays at what one append holds. Throws exactgeo::Error(io_error) if the file cannot be written.
+class GrowingNpy {
+ public:
+  explicit GrowingNpy(std::string descr);
+  ~GrowingNpy();
+  GrowingNpy(const GrowingNpy&) = delete;
+  GrowingNpy& operator=(const GrowingNpy&) = delete;
+
+  void append(std::span<const unsigned char> little_endian_values, std::size_t count);
+  // Writes the header with the final length and hands over the file, rewound; the caller closes it.
+  std::FILE* finish();
+
+ private:
+  std::string descr_;
+  std::FILE* file_;
+  std::size_t count_ = 0;
+};
+
+// One member of an .npz archive: NAME.npy holding the array, from memory or from a finished GrowingNpy.
 struct NpzMember {
   std::string name;
   std::string descr;
   std::vector<std::size_t> shape;
   std::vector<unsigned char> data;
+  std::FILE* npy_file = nullptr;  // if set, the whole .npy (descr, shape and data unused); the archive closes it
 };
 
 // A zip archive of the members, uncompressed, as numpy.savez writes them. Throws exactgeo::Error(io_error)

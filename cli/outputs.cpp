@@ -42,10 +42,7 @@ void write_values_npy(std::FILE* file, const Values& values) {
   }
   const std::vector<std::size_t> shape =
       values.labels.empty() ? std::vector<std::size_t>{rows} : std::vector<std::size_t>{rows, 2};
-  const std::string header = npy_header("<f8", shape);
-  const std::vector<unsigned char> bytes = little_endian_bytes(data);
-  std::fwrite(header.data(), 1, header.size(), file);
-  std::fwrite(bytes.data(), 1, bytes.size(), file);
+  write_npy(file, "<f8", shape, little_endian_bytes(data));
 }
 
 // A colour for t in [0, 1]: a blue-green-yellow ramp like viridis, from a few of its stops.
@@ -182,10 +179,7 @@ void write_samples_csv(std::FILE* file, const exactgeo::Sampling& sampling) {
 // The sample vertices as a 1-D int64 array.
 void write_samples_npy(std::FILE* file, const exactgeo::Sampling& sampling) {
   const std::vector<std::int64_t> samples(sampling.samples.begin(), sampling.samples.end());
-  const std::string header = npy_header("<i8", std::vector<std::size_t>{samples.size()});
-  const std::vector<unsigned char> bytes = little_endian_bytes(samples);
-  std::fwrite(header.data(), 1, header.size(), file);
-  std::fwrite(bytes.data(), 1, bytes.size(), file);
+  write_npy(file, "<i8", std::vector<std::size_t>{samples.size()}, little_endian_bytes(samples));
 }
 
 constexpr std::array<Format<SamplesWriter>, 3> kSamplesFormatTable = {{

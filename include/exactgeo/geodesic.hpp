@@ -42,24 +42,36 @@ EXACTGEO_API std::string_view algorithm_name(Algorithm algorithm);
 // Throws exactgeo::Error(invalid_argument) listing the known names.
 EXACTGEO_API Algorithm parse_algorithm(std::string_view name);
 
+// How a run goes. Each value field's meaning is in for_each_option_field below; all give the same distances.
 struct GeodesicOptions {
   Algorithm algorithm = Algorithm::vtp;
-  // Paper Section 4.1, Rule 1 "One Angle Two Sides": prune with the window list's separating point.
-  // Off: every window covering the opposite vertex is split in two, nothing pruned there.
   bool rule1 = true;
-  // Paper Sections 4.2-4.3, Rules 2 and 3: pairwise checks between neighbouring windows of a list.
   bool rule23 = true;
-  // Distances above this are not computed: such vertices and targets get +inf, and the wavefront stops
-  // there, so the work shrinks with the radius. Must not be negative or NaN.
   double max_distance = std::numeric_limits<double>::infinity();
-  // Splits the run's time into window propagation, pruning and queue management (GeodesicStats). The
-  // clock reads around every list crossing slow the run down (by up to 60% measured), so this is
-  // off unless asked for.
   bool collect_timings = false;
   // A run whose token is stopped (std::stop_source::request_stop, from any thread) ends within a few
   // milliseconds by throwing exactgeo::Error(cancelled). Distance matrices and sampling pass it to every run.
+  // A handle rather than a setting, so not among the fields below.
   std::stop_token stop{};
 };
+
+// Every setting of GeodesicOptions in declaration order, with what it means: calls
+// visit(name, member pointer, description) once per field. The Python options are generated from it.
+template <class Visit>
+constexpr void for_each_option_field(Visit&& visit) {
+  using O = GeodesicOptions;
+  visit("algorithm", &O::algorithm, "the paper's variant (Section 5), see kAlgorithmNames; vtp is its final algorithm");
+  visit("rule1", &O::rule1,
+        "Rule 1 \"One Angle Two Sides\" (Section 4.1): prune with the window list's separating point; off, every "
+        "window covering the opposite vertex is split in two");
+  visit("rule23", &O::rule23, "Rules 2 and 3 (Sections 4.2-4.3): pairwise checks between neighbouring windows");
+  visit("max_distance", &O::max_distance,
+        "distances above this are not computed (+inf) and the wavefront stops there, so the work shrinks with "
+        "the radius; not negative or NaN");
+  visit("collect_timings", &O::collect_timings,
+        "split the time into window propagation, pruning and queue (GeodesicStats); the clock reads slow the run "
+        "down by up to 60%");
+}
 
 // What a run did: the counts as the paper defines them (Section 6.2) and the time. A propagation is prime if
 // it crosses a triangle that joined the traversed area in the current iteration, secondary if it crosses one
@@ -147,7 +159,9 @@ struct GeodesicPath {
 };
 
 // A reusable solver: owns the engine's buffers, so repeated runs on one mesh allocate nothing new, and
-// answers path queries about its last run. The mesh must outlive the solver.
+// answers path queries about its last run. The mesh must outlive the solver. One solver per thread: a
+// solver is not safe to share between threads (a path query answers about whichever run came last), while
+// any number of solvers may share one Mesh, which is immutable.
 class EXACTGEO_API GeodesicSolver {
  public:
   explicit GeodesicSolver(const Mesh& mesh);

@@ -28,6 +28,7 @@
 #include <string_view>
 #include <thread>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -355,27 +356,39 @@ NB_MODULE(_core, m) {
   nb::class_<exactgeo::MeshReport> report(m, "MeshReport", "What validation found in a mesh.");
   bind_fields(report, [](auto&& visit) { exactgeo::for_each_report_field(visit); });
 
-  const exactgeo::GeodesicOptions defaults;
-  nb::class_<exactgeo::GeodesicOptions>(m, "GeodesicOptions")
-      .def(
-          "__init__",
-          [](exactgeo::GeodesicOptions* self, std::string_view algorithm, bool rule1, bool rule23,
-             double max_distance, bool collect_timings) {
-            new (self) exactgeo::GeodesicOptions{.algorithm = exactgeo::parse_algorithm(algorithm),
-                                                 .rule1 = rule1,
-                                                 .rule23 = rule23,
-                                                 .max_distance = max_distance,
-                                                 .collect_timings = collect_timings};
-          },
-          nb::kw_only(), "algorithm"_a = std::string(exactgeo::algorithm_name(defaults.algorithm)),
-          "rule1"_a = defaults.rule1, "rule23"_a = defaults.rule23, "max_distance"_a = defaults.max_distance,
-          "collect_timings"_a = defaults.collect_timings)
-      .def_prop_ro("algorithm",
-                   [](const exactgeo::GeodesicOptions& o) { return std::string(exactgeo::algorithm_name(o.algorithm)); })
-      .def_ro("rule1", &exactgeo::GeodesicOptions::rule1)
-      .def_ro("rule23", &exactgeo::GeodesicOptions::rule23)
-      .def_ro("max_distance", &exactgeo::GeodesicOptions::max_distance)
-      .def_ro("collect_timings", &exactgeo::GeodesicOptions::collect_timings);
+  // Options from keyword arguments named as in the library's table (for_each_option_field), the algorithm by
+  // its name; read-only attributes of the same names, and `fields`, the names in order.
+  nb::class_<exactgeo::GeodesicOptions> options(m, "GeodesicOptions", "How a run goes (C++: exactgeo::GeodesicOptions).");
+  std::vector<std::string> option_names;
+  exactgeo::for_each_option_field([&](const char* name, auto member, const char* description) {
+    option_names.emplace_back(name);
+    using Value = std::remove_cvref_t<decltype(std::declval<exactgeo::GeodesicOptions>().*member)>;
+    if constexpr (std::is_same_v<Value, exactgeo::Algorithm>) {
+      options.def_prop_ro(
+          name, [member](const exactgeo::GeodesicOptions& o) { return std::string(exactgeo::algorithm_name(o.*member)); },
+          description);
+    } else {
+      options.def_ro(name, member, description);
+    }
+  });
+  options.attr("fields") = nb::tuple(nb::cast(option_names));
+  options.def("__init__", [option_names](exactgeo::GeodesicOptions* self, const nb::kwargs& settings) {
+    for (const auto& [key, value] : settings) {
+      const std::string name = nb::cast<std::string>(key);
+      if (std::find(option_names.begin(), option_names.end(), name) == option_names.end())
+        throw nb::type_error(("unknown option '" + name + "'").c_str());
+    }
+    new (self) exactgeo::GeodesicOptions{};
+    exactgeo::for_each_option_field([&](const char* name, auto member, const char*) {
+      if (!settings.contains(name)) return;
+      using Value = std::remove_cvref_t<decltype(self->*member)>;
+      if constexpr (std::is_same_v<Value, exactgeo::Algorithm>) {
+        self->*member = exactgeo::parse_algorithm(nb::cast<std::string>(settings[name]));
+      } else {
+        self->*member = nb::cast<Value>(settings[name]);
+      }
+    });
+  });
 
   nb::class_<exactgeo::Mesh>(m, "Mesh")
       .def(
