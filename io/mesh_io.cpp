@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
+#include <system_error>
 
 #include <fast_float/fast_float.h>
 
@@ -174,11 +176,27 @@ void TextCursor::fail(std::string_view reason) const { throw_line_error(file_, l
 
 namespace {
 
+std::string_view file_kind(const std::filesystem::file_status& status) {
+  namespace fs = std::filesystem;
+  if (fs::is_directory(status)) return "a directory";
+  if (fs::is_fifo(status)) return "a FIFO";
+  if (fs::is_character_file(status) || fs::is_block_file(status)) return "a device";
+  if (fs::is_socket(status)) return "a socket";
+  return "an unknown kind of file";
+}
+
 std::string read_whole_file(const std::filesystem::path& path) {
-  const auto fail = [&](const char* action) {
-    throw Error(ErrorCode::io_error,
-                std::string("cannot ") + action + " '" + path.string() + "': " + std::strerror(errno));
+  const auto fail_because = [&](const char* action, const std::string& reason) {
+    throw Error(ErrorCode::io_error, std::string("cannot ") + action + " '" + path.string() + "': " + reason);
   };
+  const auto fail = [&](const char* action) { fail_because(action, std::strerror(errno)); };
+  // Checked before opening: reading /dev/zero (or a link to it) never ends, opening a FIFO waits for a
+  // writer, and a directory reads as nothing. A path that does not exist is left to fopen's message.
+  std::error_code status_error;
+  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    fail_because("read", "not a regular file (" + std::string(file_kind(status)) + ")");
+  }
   errno = 0;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> stream(std::fopen(path.string().c_str(), "rb"), &std::fclose);
   if (!stream) fail("open");

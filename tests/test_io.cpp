@@ -1,6 +1,7 @@
 // Mesh file readers: each format's features and errors on small files written here, the shared test
 // meshes against the counts in their README, round trips, and random mutations of valid files.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
@@ -602,6 +603,34 @@ TEST_F(IoFiles, UnreadableFileIsAnIoErrorWithTheReason) {
   } catch (const Error& error) {
     EXPECT_EQ(error.code(), ErrorCode::io_error);
     expect_contains(error.what(), directory.string());
+  }
+}
+
+// Anything but a regular file is refused before it is opened: a link to /dev/zero was read until memory ran
+// out, and opening a FIFO waited for a writer forever.
+TEST_F(IoFiles, NonRegularFilesAreRefusedBeforeReading) {
+  const fs::path zero = dir_ / "zero.obj";
+  fs::create_symlink("/dev/zero", zero);
+  const fs::path directory = dir_ / "folder.ply";
+  fs::create_directory(directory);
+  const fs::path fifo = dir_ / "pipe.off";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  for (const auto& [path, kind] : {std::pair{zero, "a device"}, {directory, "a directory"}, {fifo, "a FIFO"}}) {
+    SCOPED_TRACE(path.string());
+    for (const bool load : {false, true}) {
+      try {
+        if (load) {
+          exactgeo::load_mesh(path);
+        } else {
+          read_mesh_soup(path);
+        }
+        ADD_FAILURE() << "read without error";
+      } catch (const Error& error) {
+        EXPECT_EQ(error.code(), ErrorCode::io_error);
+        expect_contains(error.what(), "cannot read '" + path.string() + "': not a regular file");
+        expect_contains(error.what(), kind);
+      }
+    }
   }
 }
 
