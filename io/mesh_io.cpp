@@ -102,12 +102,11 @@ bool TextCursor::next_line() {
     line_ = {};
     return false;
   }
-  const std::size_t rest = text.size() - next_line_start_;
-  const char* start = text.data() + next_line_start_;
-  const auto* newline = static_cast<const char*>(std::memchr(start, '\n', rest));
-  const std::size_t length = newline ? static_cast<std::size_t>(newline - start) : rest;
-  line_ = std::string_view(start, length);
-  next_line_start_ += newline ? length + 1 : length;
+  // A line ends at LF, CRLF or a lone CR (classic Mac OS): read as one line, a CR-only file had no faces.
+  const std::size_t end = std::min(text.find_first_of("\r\n", next_line_start_), text.size());
+  line_ = text.substr(next_line_start_, end - next_line_start_);
+  terminator_ = text.substr(end, text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
+  next_line_start_ = end + terminator_.size();
   ++line_number_;
   return true;
 }

@@ -65,6 +65,7 @@ struct PlyHeader {
   PlyFormat format = PlyFormat::ascii;
   std::vector<PlyElement> elements;
   std::uint64_t vertex_count = 0;
+  std::string_view line_terminator;  // of the first line: the header's line ends, LF, CRLF or CR
 };
 
 PlyElementKind element_kind(std::string_view name) {
@@ -126,6 +127,7 @@ PlyHeader read_header(TextCursor& cursor) {
     cursor.fail("not a PLY file (the first line must be 'ply')");
   }
   PlyHeader header;
+  header.line_terminator = cursor.line_terminator();
   bool has_format = false;
   for (;;) {
     if (!cursor.next_line()) cursor.fail("the header has no 'end_header' line");
@@ -370,7 +372,11 @@ void read_body(Body& body, std::size_t bytes_left, const PlyHeader& header, Mesh
 MeshSoup read_ply(const MeshFile& file) {
   TextCursor cursor(file);
   const PlyHeader header = read_header(cursor);
-  const std::size_t body_offset = cursor.offset_after_line();
+  std::size_t body_offset = cursor.offset_after_line();
+  // In a header whose lines end in a lone CR, an LF after end_header's CR is the binary body's first byte.
+  if (header.format != PlyFormat::ascii && header.line_terminator == "\r" && cursor.line_terminator() == "\r\n") {
+    --body_offset;
+  }
   const std::size_t bytes_left = file.bytes.size() - body_offset;
   MeshSoup soup;
   if (header.format == PlyFormat::ascii) {

@@ -571,6 +571,91 @@ TEST_F(IoStl, Errors) {
                {"ascnan.stl:4:", "non-finite"});
 }
 
+// ------------------------------------------------------------------------------------- line endings
+
+class IoLineEndings : public IoFileTest {};
+
+// `text` with each LF replaced by `line_end`.
+std::string with_line_ends(std::string_view text, std::string_view line_end) {
+  std::string converted;
+  for (char c : text) {
+    if (c == '\n') {
+      converted += line_end;
+    } else {
+      converted += c;
+    }
+  }
+  return converted;
+}
+
+// Files whose lines end in a lone CR (classic Mac OS) were read as a single line: an OBJ had "no faces".
+// Every text format reads CR-only and CRLF files as it reads the LF file.
+TEST_F(IoLineEndings, CrOnlyAndCrlfReadLikeLf) {
+  const std::pair<std::string, std::string> kFiles[] = {
+      {"tetra.obj", "# tetrahedron\nv 0 0 0\nv 1 0 0\n\nv 0 1 0\nv 0 0 1 # last\n"
+                    "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4"},
+      {"tetra.off", "OFF\n# counts\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"},
+      {"tetra.ply", "ply\nformat ascii 1.0\ncomment lines\nelement vertex 4\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"},
+      {"part.stl", "solid part\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0.5\n"
+                   "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 1 0.5\nvertex 1 0 0\n"
+                   "vertex 1 1 0\nendloop\nendfacet\nendsolid part\n"},
+  };
+  for (const auto& [name, text] : kFiles) {
+    const MeshSoup expected = read_mesh_soup(write(name, text));
+    for (const std::string_view line_end : {"\r", "\r\n"}) {
+      SCOPED_TRACE(name + (line_end == "\r" ? " CR" : " CRLF"));
+      const MeshSoup soup = read_mesh_soup(write(name, with_line_ends(text, line_end)));
+      EXPECT_EQ(soup.positions, expected.positions);
+      EXPECT_EQ(soup.triangles, expected.triangles);
+    }
+  }
+}
+
+TEST_F(IoLineEndings, ErrorsCountCrOnlyLines) {
+  for (const std::string_view line_end : {"\r", "\r\n"}) {
+    SCOPED_TRACE(line_end == "\r" ? "CR" : "CRLF");
+    const auto lines = [&](std::string_view text) { return with_line_ends(text, line_end); };
+    expect_error("range.obj", lines("v 0 0 0\nv 1 0 0\n\nv 0 1 0\nf 1 2 4\n"), ErrorCode::invalid_mesh,
+                 {"range.obj:5:", "4 out of range"});
+    expect_error("range.off", lines("OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), ErrorCode::invalid_mesh,
+                 {"range.off:6:", "3 out of range"});
+    expect_error("type.ply", lines("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\n"),
+                 ErrorCode::invalid_mesh, {"type.ply:4:", "float128"});
+    expect_error("number.ply",
+                 lines("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n0 0 0\n1 zero 0\n"),
+                 ErrorCode::invalid_mesh, {"number.ply:9:", "'zero'"});
+    expect_error("keyword.stl", lines("solid x\nfacet normal 0 0 1\nouter loop\nvertx 1 2 3\n"),
+                 ErrorCode::invalid_mesh, {"keyword.stl:4:", "'vertx'"});
+  }
+}
+
+// A binary PLY's header may end its lines in a lone CR; its body then starts right after end_header's CR,
+// even when the first byte of the body is an LF (here: a uchar property of value 10).
+TEST_F(IoLineEndings, BinaryPlyAfterCrOnlyHeader) {
+  const auto binary = [](std::string_view line_end) {
+    Bytes bytes;
+    bytes.text(with_line_ends("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty uchar flags\n"
+                              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                              "property list uchar int vertex_indices\nend_header\n",
+                              line_end));
+    for (const std::array<float, 3> p : {std::array{0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}}) {
+      bytes.put<std::uint8_t>('\n').put(p[0]).put(p[1]).put(p[2]);
+    }
+    bytes.put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1).put<std::int32_t>(2);
+    return bytes.data;
+  };
+  const MeshSoup expected = read_mesh_soup(write("lf.ply", binary("\n")));
+  EXPECT_EQ(expected.positions, (std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  for (const std::string_view line_end : {"\r", "\r\n"}) {
+    const MeshSoup soup = read_mesh_soup(write("other.ply", binary(line_end)));
+    EXPECT_EQ(soup.positions, expected.positions);
+    EXPECT_EQ(soup.triangles, expected.triangles);
+  }
+}
+
 // --------------------------------------------------------------------------------- files and dispatch
 
 class IoFiles : public IoFileTest {};
