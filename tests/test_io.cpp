@@ -341,10 +341,37 @@ TEST_F(IoPly, Errors) {
   expect_error("nan.ply", ascii + face_header + "0 0 0\n1 nan 0\n0 1 0\n", ErrorCode::invalid_mesh,
                {"nan.ply:11:", "vertex 1", "non-finite"});
   expect_error("asciishort.ply", ascii + face_header + vertices + "3 0 1\n", ErrorCode::invalid_mesh,
-               {"asciishort.ply:13:", "file ends inside face 0"});
+               {"asciishort.ply:13:", "face 0 has 3 values, the header and its list lengths declare 4"});
+  expect_error("asciitruncated.ply", ascii + face_header + vertices, ErrorCode::invalid_mesh,
+               {"file ends inside face 0"});
   expect_error("nofaces.ply", ascii + "end_header\n" + vertices, ErrorCode::invalid_mesh, {"no faces"});
   expect_error("toomany.ply", "ply\nformat ascii 1.0\nelement vertex 5000000000\n" + xyz + face_header,
                ErrorCode::invalid_mesh, {"toomany.ply:3:", "5000000000", "32-bit"});
+}
+
+// Each item of an ASCII body is a row of its own. Read as one stream of values, a vertex row with an extra
+// value shifted every later value, and the error (if any) named a later row.
+TEST_F(IoPly, AsciiRowsWithTooManyOrTooFewValuesAreNamed) {
+  const std::string header =  // 9 lines; the vertex rows are lines 10 to 12, the face row line 13
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  expect_error("extra.ply", header + "0 0 0\n1 0 0 7\n0 1 0\n3 0 1 2\n", ErrorCode::invalid_mesh,
+               {"extra.ply:11: vertex 1 has 4 values, the header declares 3"});
+  expect_error("few.ply", header + "0 0 0\n1 0 0\n0 1\n3 0 1 2\n", ErrorCode::invalid_mesh,
+               {"few.ply:12: vertex 2 has 2 values, the header declares 3"});
+  expect_error("longface.ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0\n", ErrorCode::invalid_mesh,
+               {"longface.ply:13: face 0 has 5 values, the header and its list lengths declare 4"});
+  expect_error("shortface.ply", header + "0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", ErrorCode::invalid_mesh,
+               {"shortface.ply:13: face 0 has 4 values, the header and its list lengths declare 5"});
+  // A value missing before a later list's length: only a lower bound is known.
+  expect_error("listlater.ply",
+               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+               "property list uchar float weights\nend_header\n0 0 0 0\n1 0\n",
+               ErrorCode::invalid_mesh,
+               {"listlater.ply:10: vertex 1 has 2 values, the header and its list lengths declare at least 4"});
+  // Blank rows between items are allowed, and do not shift the line numbers.
+  expect_error("blank.ply", header + "0 0 0\n\n1 0 0 7\n0 1 0\n3 0 1 2\n", ErrorCode::invalid_mesh,
+               {"blank.ply:12: vertex 1 has 4 values"});
 }
 
 TEST_F(IoPly, BinaryErrorsNameTheElement) {
