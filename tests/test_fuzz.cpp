@@ -121,11 +121,11 @@ std::string number(double value) {
 
 // Every check of one case under one variant.
 void check_case(const FuzzCase& c, const GeodesicOptions& options, Random& random, Failures& failures) {
-  const std::string variant = exactgeo_test::variant_label(options) + ": ";
   const MeshSoup& soup = c.soup;
   const Mesh mesh(soup);
   const std::size_t n = mesh.vertex_count();
   const std::uint32_t source = exactgeo_test::random_source_vertex(soup, random.below(1u << 30));
+  const std::string variant = exactgeo_test::variant_label(options) + ", source " + std::to_string(source) + ": ";
   exactgeo::GeodesicSolver solver(mesh);
   const std::uint32_t sources[] = {source};
   const std::vector<double> d = solver.solve(sources, {}, options).distances;
@@ -149,7 +149,13 @@ void check_case(const FuzzCase& c, const GeodesicOptions& options, Random& rando
                    number(euclidean));
     if (!(d[v] <= graph[v] + kRounding * largest))
       failures.add(at + "geodesic " + number(d[v]) + " longer than an edge path " + number(graph[v]));
-    const exactgeo::GeodesicPath path = solver.path_to_vertex(v);
+    exactgeo::GeodesicPath path;
+    try {
+      path = solver.path_to_vertex(v);
+    } catch (const exactgeo::Error& error) {
+      failures.add(at + "path: " + error.what());
+      continue;
+    }
     if (!(std::abs(path.length - d[v]) <= kPathLength * d[v]))
       failures.add(at + "path length " + number(path.length) + ", distance " + number(d[v]));
     for (const auto& point : path.points)
@@ -193,31 +199,43 @@ void check_case(const FuzzCase& c, const GeodesicOptions& options, Random& rando
     failures.add(variant + "scaled by 1e" + std::to_string(exponent) + " and moved: " + match.message());
 }
 
+// Runs the case of one seed under every algorithm; a failure names the seed, the mesh and the first checks
+// that failed. Returns whether every check held.
+bool check_seed(std::uint64_t seed) {
+  Random random(seed);
+  const FuzzCase c = random_case(random);
+  Failures failures;
+  for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames) {
+    const GeodesicOptions options{.algorithm = algorithm, .rule1 = random.below(4) != 0,
+                                  .rule23 = random.below(4) != 0};
+    try {
+      check_case(c, options, random, failures);
+    } catch (const exactgeo::Error& error) {
+      failures.add(exactgeo_test::variant_label(options) + ": exactgeo::Error " + error.what());
+    }
+  }
+  if (failures.count() == 0) return true;
+  ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
+                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed << " EXACTGEO_FUZZ_CASES=1";
+  return false;
+}
+
 TEST(Fuzz, RandomMeshesKeepEveryProperty) {
   const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
   const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", kDefaultCases);
   std::size_t failing = 0;
-  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) {
-    Random random(seed);
-    const FuzzCase c = random_case(random);
-    Failures failures;
-    for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames) {
-      const GeodesicOptions options{.algorithm = algorithm, .rule1 = random.below(4) != 0,
-                                    .rule23 = random.below(4) != 0};
-      try {
-        check_case(c, options, random, failures);
-      } catch (const exactgeo::Error& error) {
-        failures.add(exactgeo_test::variant_label(options) + ": exactgeo::Error " + error.what());
-      }
-    }
-    if (failures.count() > 0) {
-      ++failing;
-      ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
-                    << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed << " EXACTGEO_FUZZ_CASES=1";
-    }
-  }
+  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) failing += check_seed(seed) ? 0 : 1;
   std::printf("%llu random cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
               static_cast<unsigned long long>(first_seed), failing);
+}
+
+// A known bug, found by `make fuzz` (seeds 1 to 20000); run with --gtest_also_run_disabled_tests. On nearly
+// flat smooth height fields of 3 rows, subdivided 1-to-4 and rotated, path_to_vertex throws "path tracing
+// failed: a piece leaves the surface through a boundary edge" under the face-sorted variants: seed 19025
+// (7x3 cells, amplitude 0.00135; opftp, source 37, vertex 7) and seed 19435 (10x3, amplitude 0.0087; ftp,
+// source 107, vertex 0). The distances themselves pass every check; only the path is missing.
+TEST(Fuzz, DISABLED_PathsOnSubdividedNearlyFlatHeightFieldsLeaveThroughABoundaryEdge) {
+  for (const std::uint64_t seed : {19025u, 19435u}) check_seed(seed);
 }
 
 }  // namespace
