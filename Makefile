@@ -49,12 +49,15 @@ test-asan: asan-build
 # Longer fuzzing than `make test`: the geometric fuzz test (tests/test_fuzz.cpp) with 100 times its default
 # cases in the Release build, then the mesh readers under libFuzzer for FUZZ_SECONDS from the seed corpus.
 # A failing geometric case prints its seed; a crashing reader input is written to $(ASAN_BUILD_DIR)/tests/fuzz.
+# Both run even when the first fails, and either failing fails the target.
 FUZZ_CASES ?= 20000
 FUZZ_SECONDS ?= 60
 fuzz: build asan-build
-	EXACTGEO_FUZZ_CASES=$(FUZZ_CASES) $(BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Fuzz.*'
+	status=0; \
+	EXACTGEO_FUZZ_CASES=$(FUZZ_CASES) $(BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Fuzz.*' || status=1; \
 	$(ASAN_BUILD_DIR)/tests/fuzz/exactgeo_fuzz_read_mesh -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=2 \
-	  -artifact_prefix=$(ASAN_BUILD_DIR)/tests/fuzz/ $(ASAN_BUILD_DIR)/tests/fuzz/corpus tests/fuzz/corpus
+	  -artifact_prefix=$(ASAN_BUILD_DIR)/tests/fuzz/ $(ASAN_BUILD_DIR)/tests/fuzz/corpus tests/fuzz/corpus || status=1; \
+	exit $$status
 
 # Timings against the other solvers, written to bench/results/ (see bench/README.md).
 bench: build python
