@@ -6,7 +6,7 @@ CMAKE_FLAGS ?=
 # The sanitizer build: clang (for libFuzzer), its own build folder.
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
-.PHONY: deps build python demo test test-asan bench bench-quick paper clean
+.PHONY: deps build python demo test asan-build test-asan fuzz bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -37,12 +37,27 @@ test: build python
 # invariant checks (EXACTGEO_ASSERT) on, and the mesh readers fuzzed for a few seconds from
 # tests/fuzz/corpus. -O1 keeps the sanitized tests fast; the oracle tests are left to the main build, where
 # they already take minutes.
-test-asan: deps
+asan-build: deps
 	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
 	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DEXACTGEO_SANITIZE=ON -DEXACTGEO_ASSERTIONS=ON -DEXACTGEO_BUILD_FUZZERS=ON \
 	  -DEXACTGEO_BUILD_CLI=OFF -DEXACTGEO_BUILD_ORACLE=OFF $(CMAKE_FLAGS)
 	cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
+
+test-asan: asan-build
 	cd $(ASAN_BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Longer fuzzing than `make test`: the geometric fuzz test (tests/test_fuzz.cpp) with 100 times its default
+# cases in the Release build, then the mesh readers under libFuzzer for FUZZ_SECONDS from the seed corpus.
+# A failing geometric case prints its seed; a crashing reader input is written to $(ASAN_BUILD_DIR)/tests/fuzz.
+# Both run even when the first fails, and either failing fails the target.
+FUZZ_CASES ?= 20000
+FUZZ_SECONDS ?= 60
+fuzz: build asan-build
+	status=0; \
+	EXACTGEO_FUZZ_CASES=$(FUZZ_CASES) $(BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Fuzz.*' || status=1; \
+	$(ASAN_BUILD_DIR)/tests/fuzz/exactgeo_fuzz_read_mesh -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=2 \
+	  -artifact_prefix=$(ASAN_BUILD_DIR)/tests/fuzz/ $(ASAN_BUILD_DIR)/tests/fuzz/corpus tests/fuzz/corpus || status=1; \
+	exit $$status
 
 # Timings against the other solvers, written to bench/results/ (see bench/README.md).
 bench: build python

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
+#include <system_error>
 
 #include <fast_float/fast_float.h>
 
@@ -100,12 +102,11 @@ bool TextCursor::next_line() {
     line_ = {};
     return false;
   }
-  const std::size_t rest = text.size() - next_line_start_;
-  const char* start = text.data() + next_line_start_;
-  const auto* newline = static_cast<const char*>(std::memchr(start, '\n', rest));
-  const std::size_t length = newline ? static_cast<std::size_t>(newline - start) : rest;
-  line_ = std::string_view(start, length);
-  next_line_start_ += newline ? length + 1 : length;
+  // A line ends at LF, CRLF or a lone CR (classic Mac OS): read as one line, a CR-only file had no faces.
+  const std::size_t end = std::min(text.find_first_of("\r\n", next_line_start_), text.size());
+  line_ = text.substr(next_line_start_, end - next_line_start_);
+  terminator_ = text.substr(end, text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
+  next_line_start_ = end + terminator_.size();
   ++line_number_;
   return true;
 }
@@ -174,11 +175,27 @@ void TextCursor::fail(std::string_view reason) const { throw_line_error(file_, l
 
 namespace {
 
+std::string_view file_kind(const std::filesystem::file_status& status) {
+  namespace fs = std::filesystem;
+  if (fs::is_directory(status)) return "a directory";
+  if (fs::is_fifo(status)) return "a FIFO";
+  if (fs::is_character_file(status) || fs::is_block_file(status)) return "a device";
+  if (fs::is_socket(status)) return "a socket";
+  return "an unknown kind of file";
+}
+
 std::string read_whole_file(const std::filesystem::path& path) {
-  const auto fail = [&](const char* action) {
-    throw Error(ErrorCode::io_error,
-                std::string("cannot ") + action + " '" + path.string() + "': " + std::strerror(errno));
+  const auto fail_because = [&](const char* action, const std::string& reason) {
+    throw Error(ErrorCode::io_error, std::string("cannot ") + action + " '" + path.string() + "': " + reason);
   };
+  const auto fail = [&](const char* action) { fail_because(action, std::strerror(errno)); };
+  // Checked before opening: reading /dev/zero (or a link to it) never ends, opening a FIFO waits for a
+  // writer, and a directory reads as nothing. A path that does not exist is left to fopen's message.
+  std::error_code status_error;
+  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    fail_because("read", "not a regular file (" + std::string(file_kind(status)) + ")");
+  }
   errno = 0;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> stream(std::fopen(path.string().c_str(), "rb"), &std::fclose);
   if (!stream) fail("open");

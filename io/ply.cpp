@@ -2,6 +2,7 @@
 // properties of the `vertex` element (any numeric type); polygons from the `vertex_indices` (or
 // `vertex_index`) list of `face`, and triangle strips from the `vertex_indices` list of `tristrips`. Every
 // other property and element is read past and dropped.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -65,6 +66,7 @@ struct PlyHeader {
   PlyFormat format = PlyFormat::ascii;
   std::vector<PlyElement> elements;
   std::uint64_t vertex_count = 0;
+  std::string_view line_terminator;  // of the first line: the header's line ends, LF, CRLF or CR
 };
 
 PlyElementKind element_kind(std::string_view name) {
@@ -126,6 +128,7 @@ PlyHeader read_header(TextCursor& cursor) {
     cursor.fail("not a PLY file (the first line must be 'ply')");
   }
   PlyHeader header;
+  header.line_terminator = cursor.line_terminator();
   bool has_format = false;
   for (;;) {
     if (!cursor.next_line()) cursor.fail("the header has no 'end_header' line");
@@ -194,7 +197,8 @@ std::string truncation_reason(const PlyElement& element, std::uint64_t index) {
          std::to_string(element.count) + ")";
 }
 
-// Reads values as whitespace-separated tokens; errors name the line.
+// Reads each element item from a row of its own, so that a row with too many or too few values is reported
+// at that row: read across rows, an extra value on a vertex row was blamed on a later row.
 class AsciiBody {
  public:
   explicit AsciiBody(TextCursor& cursor) : cursor_(cursor) {}
@@ -202,13 +206,31 @@ class AsciiBody {
   void begin_item(const PlyElement& element, std::uint64_t index) {
     element_ = &element;
     index_ = index;
+    values_read_ = 0;
+    values_declared_ = element.properties.size();  // a list's length is one value, its items come on top
+    const auto is_list = [](const PlyProperty& property) { return property.list_count_type.has_value(); };
+    lists_unread_ = static_cast<std::size_t>(
+        std::count_if(element.properties.begin(), element.properties.end(), is_list));
+    has_lists_ = lists_unread_ > 0;
+    if (!cursor_.next_data_line()) cursor_.fail(truncation_reason(element, index));
+  }
+  void begin_list(std::int64_t length) {
+    values_declared_ += static_cast<std::uint64_t>(length);
+    --lists_unread_;
   }
   double read(PlyType) {
-    const std::string_view token = cursor_.next_token_any_line();
-    if (token.empty()) cursor_.fail(truncation_reason(*element_, index_));
+    const std::string_view token = cursor_.next_token();
+    if (token.empty()) fail_row_size(values_read_);
+    ++values_read_;
     double value = 0;
     if (!parse_double(token, value)) fail("malformed number " + quoted(token));
     return value;
+  }
+  void end_item() {
+    if (cursor_.peek_token().empty()) return;
+    std::uint64_t values = values_read_;
+    while (!cursor_.next_token().empty()) ++values;
+    fail_row_size(values);
   }
   [[noreturn]] void fail(const std::string& reason) const {
     cursor_.fail(item_name(*element_, index_) + ": " + reason);
@@ -216,9 +238,21 @@ class AsciiBody {
   static std::size_t min_bytes(PlyType) { return 2; }  // a digit and a separator
 
  private:
+  // "NAME:12: vertex 3 has 4 values, the header declares 3". Before a later list's length is read, only a
+  // lower bound of the values the row needs is known.
+  [[noreturn]] void fail_row_size(std::uint64_t values) const {
+    cursor_.fail(item_name(*element_, index_) + " has " + std::to_string(values) + " values, the header" +
+                 (has_lists_ ? " and its list lengths declare " : " declares ") +
+                 (lists_unread_ > 0 ? "at least " : "") + std::to_string(values_declared_));
+  }
+
   TextCursor& cursor_;
   const PlyElement* element_ = nullptr;
   std::uint64_t index_ = 0;
+  std::uint64_t values_read_ = 0;
+  std::uint64_t values_declared_ = 0;
+  bool has_lists_ = false;
+  std::size_t lists_unread_ = 0;  // list properties whose length is not read yet
 };
 
 // Reads fixed-size values in the file's byte order; errors name the element item.
@@ -248,6 +282,9 @@ class BinaryBody {
     }
     return 0;
   }
+  // Binary items have no rows: their size follows from the header and the list lengths.
+  void begin_list(std::int64_t) {}
+  void end_item() {}
   [[noreturn]] void fail(const std::string& reason) const {
     throw_file_error(file_, item_name(*element_, index_) + ": " + reason);
   }
@@ -342,11 +379,13 @@ void read_body(Body& body, std::size_t bytes_left, const PlyHeader& header, Mesh
         }
         const std::int64_t length = whole_number(body, body.read(*property.list_count_type), "list length");
         if (length < 0) body.fail("negative list length");
+        body.begin_list(length);
         for (std::int64_t i = 0; i < length; ++i) {
           const double value = body.read(property.type);
           if (property.holds_corners) list_values.push_back(value);
         }
       }
+      body.end_item();
 
       if (element.kind == PlyElementKind::vertex) {
         if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2])) {
@@ -370,7 +409,11 @@ void read_body(Body& body, std::size_t bytes_left, const PlyHeader& header, Mesh
 MeshSoup read_ply(const MeshFile& file) {
   TextCursor cursor(file);
   const PlyHeader header = read_header(cursor);
-  const std::size_t body_offset = cursor.offset_after_line();
+  std::size_t body_offset = cursor.offset_after_line();
+  // In a header whose lines end in a lone CR, an LF after end_header's CR is the binary body's first byte.
+  if (header.format != PlyFormat::ascii && header.line_terminator == "\r" && cursor.line_terminator() == "\r\n") {
+    --body_offset;
+  }
   const std::size_t bytes_left = file.bytes.size() - body_offset;
   MeshSoup soup;
   if (header.format == PlyFormat::ascii) {

@@ -51,8 +51,8 @@ inline std::size_t byte_order_mark_size(std::string_view bytes) {
   return bytes.starts_with(kUtf8ByteOrderMark) ? kUtf8ByteOrderMark.size() : 0;
 }
 
-// Walks a text file line by line and, within a line, token by token (tokens are separated by spaces,
-// tabs and a CR before the line feed). A token starting with the comment character ends its line. A
+// Walks a text file line by line and, within a line, token by token (tokens are separated by spaces and
+// tabs). Lines end at LF, CRLF or a lone CR. A token starting with the comment character ends its line. A
 // byte-order mark at the start of the file is skipped.
 class TextCursor {
  public:
@@ -80,6 +80,8 @@ class TextCursor {
 
   // Byte offset just past the current line: where a binary body starts after a text header.
   std::size_t offset_after_line() const { return next_line_start_; }
+  // What ended the current line: "\n", "\r\n", "\r", or empty at the end of the file.
+  std::string_view line_terminator() const { return terminator_; }
 
   // Throw Error(invalid_mesh) naming the file and the current line.
   [[noreturn]] void fail(std::string_view reason) const;
@@ -88,6 +90,7 @@ class TextCursor {
   const MeshFile& file_;
   char comment_;
   std::string_view line_;  // unread rest of the current line
+  std::string_view terminator_;
   std::size_t next_line_start_;
   std::size_t line_number_ = 0;
 };

@@ -2,6 +2,7 @@
 // answer is known in closed form.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -374,6 +375,17 @@ TEST_F(Cli, HelpExitsZero) {
 TEST_F(Cli, MissingFileIsInvalidInput) {
   expect_error(run("distance " + arg("no-such-mesh.obj") + " --source 0"), 2, "no-such-mesh.obj");
   expect_error(run("info " + arg("no-such-mesh.ply")), 2, "no-such-mesh.ply");
+}
+
+// A link to /dev/zero was read until memory ran out, and a FIFO waited for a writer forever.
+TEST_F(Cli, NonRegularFilesAreInvalidInput) {
+  fs::create_symlink("/dev/zero", path("zero.obj"));
+  fs::create_directory(path("folder.ply"));
+  ASSERT_EQ(::mkfifo(path("pipe.off").c_str(), 0600), 0);
+  for (const char* name : {"zero.obj", "folder.ply", "pipe.off"}) {
+    expect_error(run("distance " + arg(name) + " --source 0"), 2, path(name).string() + "': not a regular file");
+    expect_error(run("info " + arg(name)), 2, path(name).string() + "': not a regular file");
+  }
 }
 
 TEST_F(Cli, MalformedObjIsInvalidInput) {

@@ -1,6 +1,7 @@
 // Mesh file readers: each format's features and errors on small files written here, the shared test
 // meshes against the counts in their README, round trips, and random mutations of valid files.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
@@ -340,10 +341,37 @@ TEST_F(IoPly, Errors) {
   expect_error("nan.ply", ascii + face_header + "0 0 0\n1 nan 0\n0 1 0\n", ErrorCode::invalid_mesh,
                {"nan.ply:11:", "vertex 1", "non-finite"});
   expect_error("asciishort.ply", ascii + face_header + vertices + "3 0 1\n", ErrorCode::invalid_mesh,
-               {"asciishort.ply:13:", "file ends inside face 0"});
+               {"asciishort.ply:13:", "face 0 has 3 values, the header and its list lengths declare 4"});
+  expect_error("asciitruncated.ply", ascii + face_header + vertices, ErrorCode::invalid_mesh,
+               {"file ends inside face 0"});
   expect_error("nofaces.ply", ascii + "end_header\n" + vertices, ErrorCode::invalid_mesh, {"no faces"});
   expect_error("toomany.ply", "ply\nformat ascii 1.0\nelement vertex 5000000000\n" + xyz + face_header,
                ErrorCode::invalid_mesh, {"toomany.ply:3:", "5000000000", "32-bit"});
+}
+
+// Each item of an ASCII body is a row of its own. Read as one stream of values, a vertex row with an extra
+// value shifted every later value, and the error (if any) named a later row.
+TEST_F(IoPly, AsciiRowsWithTooManyOrTooFewValuesAreNamed) {
+  const std::string header =  // 9 lines; the vertex rows are lines 10 to 12, the face row line 13
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  expect_error("extra.ply", header + "0 0 0\n1 0 0 7\n0 1 0\n3 0 1 2\n", ErrorCode::invalid_mesh,
+               {"extra.ply:11: vertex 1 has 4 values, the header declares 3"});
+  expect_error("few.ply", header + "0 0 0\n1 0 0\n0 1\n3 0 1 2\n", ErrorCode::invalid_mesh,
+               {"few.ply:12: vertex 2 has 2 values, the header declares 3"});
+  expect_error("longface.ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0\n", ErrorCode::invalid_mesh,
+               {"longface.ply:13: face 0 has 5 values, the header and its list lengths declare 4"});
+  expect_error("shortface.ply", header + "0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", ErrorCode::invalid_mesh,
+               {"shortface.ply:13: face 0 has 4 values, the header and its list lengths declare 5"});
+  // A value missing before a later list's length: only a lower bound is known.
+  expect_error("listlater.ply",
+               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+               "property list uchar float weights\nend_header\n0 0 0 0\n1 0\n",
+               ErrorCode::invalid_mesh,
+               {"listlater.ply:10: vertex 1 has 2 values, the header and its list lengths declare at least 4"});
+  // Blank rows between items are allowed, and do not shift the line numbers.
+  expect_error("blank.ply", header + "0 0 0\n\n1 0 0 7\n0 1 0\n3 0 1 2\n", ErrorCode::invalid_mesh,
+               {"blank.ply:12: vertex 1 has 4 values"});
 }
 
 TEST_F(IoPly, BinaryErrorsNameTheElement) {
@@ -570,6 +598,91 @@ TEST_F(IoStl, Errors) {
                {"ascnan.stl:4:", "non-finite"});
 }
 
+// ------------------------------------------------------------------------------------- line endings
+
+class IoLineEndings : public IoFileTest {};
+
+// `text` with each LF replaced by `line_end`.
+std::string with_line_ends(std::string_view text, std::string_view line_end) {
+  std::string converted;
+  for (char c : text) {
+    if (c == '\n') {
+      converted += line_end;
+    } else {
+      converted += c;
+    }
+  }
+  return converted;
+}
+
+// Files whose lines end in a lone CR (classic Mac OS) were read as a single line: an OBJ had "no faces".
+// Every text format reads CR-only and CRLF files as it reads the LF file.
+TEST_F(IoLineEndings, CrOnlyAndCrlfReadLikeLf) {
+  const std::pair<std::string, std::string> kFiles[] = {
+      {"tetra.obj", "# tetrahedron\nv 0 0 0\nv 1 0 0\n\nv 0 1 0\nv 0 0 1 # last\n"
+                    "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4"},
+      {"tetra.off", "OFF\n# counts\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"},
+      {"tetra.ply", "ply\nformat ascii 1.0\ncomment lines\nelement vertex 4\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"},
+      {"part.stl", "solid part\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0.5\n"
+                   "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 1 0.5\nvertex 1 0 0\n"
+                   "vertex 1 1 0\nendloop\nendfacet\nendsolid part\n"},
+  };
+  for (const auto& [name, text] : kFiles) {
+    const MeshSoup expected = read_mesh_soup(write(name, text));
+    for (const std::string_view line_end : {"\r", "\r\n"}) {
+      SCOPED_TRACE(name + (line_end == "\r" ? " CR" : " CRLF"));
+      const MeshSoup soup = read_mesh_soup(write(name, with_line_ends(text, line_end)));
+      EXPECT_EQ(soup.positions, expected.positions);
+      EXPECT_EQ(soup.triangles, expected.triangles);
+    }
+  }
+}
+
+TEST_F(IoLineEndings, ErrorsCountCrOnlyLines) {
+  for (const std::string_view line_end : {"\r", "\r\n"}) {
+    SCOPED_TRACE(line_end == "\r" ? "CR" : "CRLF");
+    const auto lines = [&](std::string_view text) { return with_line_ends(text, line_end); };
+    expect_error("range.obj", lines("v 0 0 0\nv 1 0 0\n\nv 0 1 0\nf 1 2 4\n"), ErrorCode::invalid_mesh,
+                 {"range.obj:5:", "4 out of range"});
+    expect_error("range.off", lines("OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), ErrorCode::invalid_mesh,
+                 {"range.off:6:", "3 out of range"});
+    expect_error("type.ply", lines("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\n"),
+                 ErrorCode::invalid_mesh, {"type.ply:4:", "float128"});
+    expect_error("number.ply",
+                 lines("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n0 0 0\n1 zero 0\n"),
+                 ErrorCode::invalid_mesh, {"number.ply:9:", "'zero'"});
+    expect_error("keyword.stl", lines("solid x\nfacet normal 0 0 1\nouter loop\nvertx 1 2 3\n"),
+                 ErrorCode::invalid_mesh, {"keyword.stl:4:", "'vertx'"});
+  }
+}
+
+// A binary PLY's header may end its lines in a lone CR; its body then starts right after end_header's CR,
+// even when the first byte of the body is an LF (here: a uchar property of value 10).
+TEST_F(IoLineEndings, BinaryPlyAfterCrOnlyHeader) {
+  const auto binary = [](std::string_view line_end) {
+    Bytes bytes;
+    bytes.text(with_line_ends("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty uchar flags\n"
+                              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                              "property list uchar int vertex_indices\nend_header\n",
+                              line_end));
+    for (const std::array<float, 3> p : {std::array{0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}}) {
+      bytes.put<std::uint8_t>('\n').put(p[0]).put(p[1]).put(p[2]);
+    }
+    bytes.put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1).put<std::int32_t>(2);
+    return bytes.data;
+  };
+  const MeshSoup expected = read_mesh_soup(write("lf.ply", binary("\n")));
+  EXPECT_EQ(expected.positions, (std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  for (const std::string_view line_end : {"\r", "\r\n"}) {
+    const MeshSoup soup = read_mesh_soup(write("other.ply", binary(line_end)));
+    EXPECT_EQ(soup.positions, expected.positions);
+    EXPECT_EQ(soup.triangles, expected.triangles);
+  }
+}
+
 // --------------------------------------------------------------------------------- files and dispatch
 
 class IoFiles : public IoFileTest {};
@@ -602,6 +715,34 @@ TEST_F(IoFiles, UnreadableFileIsAnIoErrorWithTheReason) {
   } catch (const Error& error) {
     EXPECT_EQ(error.code(), ErrorCode::io_error);
     expect_contains(error.what(), directory.string());
+  }
+}
+
+// Anything but a regular file is refused before it is opened: a link to /dev/zero was read until memory ran
+// out, and opening a FIFO waited for a writer forever.
+TEST_F(IoFiles, NonRegularFilesAreRefusedBeforeReading) {
+  const fs::path zero = dir_ / "zero.obj";
+  fs::create_symlink("/dev/zero", zero);
+  const fs::path directory = dir_ / "folder.ply";
+  fs::create_directory(directory);
+  const fs::path fifo = dir_ / "pipe.off";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  for (const auto& [path, kind] : {std::pair{zero, "a device"}, {directory, "a directory"}, {fifo, "a FIFO"}}) {
+    SCOPED_TRACE(path.string());
+    for (const bool load : {false, true}) {
+      try {
+        if (load) {
+          exactgeo::load_mesh(path);
+        } else {
+          read_mesh_soup(path);
+        }
+        ADD_FAILURE() << "read without error";
+      } catch (const Error& error) {
+        EXPECT_EQ(error.code(), ErrorCode::io_error);
+        expect_contains(error.what(), "cannot read '" + path.string() + "': not a regular file");
+        expect_contains(error.what(), kind);
+      }
+    }
   }
 }
 

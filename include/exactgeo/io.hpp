@@ -11,8 +11,10 @@
 
 namespace exactgeo {
 
-// Throws exactgeo::Error: io_error if the file cannot be read, invalid_mesh naming the file, the line
-// (text formats) or element (binary formats) and the reason for malformed content.
+// Throws exactgeo::Error: io_error if the file cannot be read or is not a regular file (after following
+// links: a directory, FIFO or device is refused before it is opened), invalid_mesh naming the file, the line
+// (text formats; lines end at LF, CRLF or a lone CR) or element (binary formats) and the reason for
+// malformed content.
 EXACTGEO_API MeshSoup read_mesh_soup(const std::filesystem::path& path);
 
 // read_mesh_soup followed by validation into a Mesh.

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <queue>
 #include <sstream>
 #include <utility>
 
 #include "exactgeo/io.hpp"
+#include "exactgeo/shapes.hpp"
 
 namespace exactgeo_test {
 namespace {
@@ -180,6 +182,121 @@ std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t
   Random random(seed);
   const std::uint32_t face = faces[random.below(faces.size())];
   return soup.triangles[3 * face + random.below(3)];
+}
+
+exactgeo::MeshSoup random_height_field(Random& random, int nx, int ny, double amplitude, bool smooth) {
+  exactgeo::MeshSoup soup = exactgeo::make_grid(nx, ny, 1.0, 1.0);
+  struct Wave {
+    double kx, ky, phase;
+  };
+  std::array<Wave, 3> waves;
+  for (Wave& wave : waves) wave = {random.uniform(-8, 8), random.uniform(-8, 8), random.uniform(0, 6.3)};
+  for (std::size_t v = 0; v < vertex_count(soup); ++v) {
+    const double x = soup.positions[3 * v], y = soup.positions[3 * v + 1];
+    double z = 0;
+    if (smooth) {
+      for (const Wave& wave : waves) z += std::sin(wave.kx * x + wave.ky * y + wave.phase) / 3;
+    } else {
+      z = random.uniform(-1, 1);
+    }
+    soup.positions[3 * v + 2] = amplitude * z;
+  }
+  return soup;
+}
+
+exactgeo::MeshSoup random_convex_polygon(Random& random, int sides, int rings) {
+  // Gaps between consecutive corners that differ by less than a factor of two stay below pi for 3 or more
+  // sides, so the origin is inside: a larger gap would fold the fan over itself.
+  std::vector<double> angles(static_cast<std::size_t>(sides));
+  double turned = 0;  // the sum of the gaps before each corner, then of all gaps
+  for (double& corner : angles) {
+    corner = turned;
+    turned += random.uniform(1.0, 1.9);
+  }
+  const double start = random.uniform(0, 2 * std::numbers::pi);
+  for (double& corner : angles) corner = start + corner * (2 * std::numbers::pi / turned);
+  const double a = random.uniform(0.3, 1.0), b = random.uniform(0.3, 1.0);
+  std::vector<double> radii(static_cast<std::size_t>(rings));
+  for (double& radius : radii) radius = random.uniform(0.1, 1.0);
+  std::sort(radii.begin(), radii.end());
+  radii.back() = 1.0;
+
+  exactgeo::MeshSoup soup;
+  const std::uint32_t centre = add_vertex(soup, {0, 0, 0});
+  for (const double radius : radii)
+    for (const double angle : angles) add_vertex(soup, {radius * a * std::cos(angle), radius * b * std::sin(angle), 0});
+  const auto n = static_cast<std::uint32_t>(sides);
+  const auto corner = [&](std::uint32_t ring, std::uint32_t i) { return 1 + ring * n + i % n; };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    add_triangle(soup, centre, corner(0, i), corner(0, i + 1));
+    for (std::uint32_t ring = 0; ring + 1 < radii.size(); ++ring) {
+      add_triangle(soup, corner(ring, i), corner(ring + 1, i), corner(ring + 1, i + 1));
+      add_triangle(soup, corner(ring, i), corner(ring + 1, i + 1), corner(ring, i + 1));
+    }
+  }
+  return soup;
+}
+
+exactgeo::MeshSoup random_grid_with_holes(Random& random, int nx, int ny, int holes) {
+  // Cells are (i, j), 0 <= i < nx, 0 <= j < ny. A hole is a rectangle of cells; `blocked` marks each hole's
+  // cells and the ring of cells around it, where no other hole may go.
+  std::vector<std::uint8_t> removed(static_cast<std::size_t>(nx * ny), 0), blocked(removed.size(), 0);
+  const auto cell = [&](int i, int j) { return static_cast<std::size_t>(j * nx + i); };
+  for (int hole = 0; hole < holes && nx >= 3 && ny >= 3; ++hole) {
+    const int w = 1 + static_cast<int>(random.below(static_cast<std::size_t>((nx - 1) / 2)));
+    const int h = 1 + static_cast<int>(random.below(static_cast<std::size_t>((ny - 1) / 2)));
+    if (w > nx - 2 || h > ny - 2) continue;
+    const int i0 = 1 + static_cast<int>(random.below(static_cast<std::size_t>(nx - 1 - w)));
+    const int j0 = 1 + static_cast<int>(random.below(static_cast<std::size_t>(ny - 1 - h)));
+    bool free = true;
+    for (int j = j0 - 1; j <= j0 + h; ++j)
+      for (int i = i0 - 1; i <= i0 + w; ++i) free = free && !removed[cell(i, j)];
+    for (int j = j0; j < j0 + h; ++j)
+      for (int i = i0; i < i0 + w; ++i) free = free && !blocked[cell(i, j)];
+    if (!free) continue;
+    for (int j = j0 - 1; j <= j0 + h; ++j)
+      for (int i = i0 - 1; i <= i0 + w; ++i) blocked[cell(i, j)] = 1;
+    for (int j = j0; j < j0 + h; ++j)
+      for (int i = i0; i < i0 + w; ++i) removed[cell(i, j)] = 1;
+  }
+
+  const exactgeo::MeshSoup grid = exactgeo::make_grid(nx, ny, 1.0, 1.0);
+  exactgeo::MeshSoup soup{grid.positions, {}};
+  const double dx = 1.0 / nx, dy = 1.0 / ny;
+  for (std::size_t v = 0; v < vertex_count(soup); ++v) {
+    double& x = soup.positions[3 * v];
+    double& y = soup.positions[3 * v + 1];
+    if (x > 0 && x < 1) x += 0.15 * dx * random.uniform(-1, 1);
+    if (y > 0 && y < 1) y += 0.15 * dy * random.uniform(-1, 1);
+  }
+  // make_grid lists the two triangles of cell (i, j) as faces 2 * (j * nx + i) and the one after.
+  for (std::size_t f = 0; f < face_count(grid); ++f)
+    if (!removed[f / 2])
+      add_triangle(soup, grid.triangles[3 * f], grid.triangles[3 * f + 1], grid.triangles[3 * f + 2]);
+  return soup;
+}
+
+exactgeo::MeshSoup randomly_rotated(exactgeo::MeshSoup soup, Random& random) {
+  // A uniformly random unit quaternion (w, x, y, z), as a rotation matrix.
+  double q[4];
+  double norm = 0;
+  do {
+    norm = 0;
+    for (double& c : q) {
+      c = random.uniform(-1, 1);
+      norm += c * c;
+    }
+  } while (norm > 1 || norm < 1e-3);
+  for (double& c : q) c /= std::sqrt(norm);
+  const auto [w, x, y, z] = q;
+  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  for (std::size_t v = 0; v < vertex_count(soup); ++v) {
+    const Vec3 p = vertex_position(soup, v);
+    for (int k = 0; k < 3; ++k) soup.positions[3 * v + k] = r[k][0] * p[0] + r[k][1] * p[1] + r[k][2] * p[2];
+  }
+  return soup;
 }
 
 double max_finite(std::span<const double> values) {

@@ -103,6 +103,26 @@ std::optional<std::uint32_t> first_boundary_vertex(const exactgeo::MeshSoup& sou
 // joins the mesh policy keeps). The same seed gives the same vertex on every platform.
 std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t seed);
 
+// ---- Random meshes (seeded property tests) -------------------------------------------------------------
+
+// A height field over an nx-by-ny grid of the unit square (exactgeo::make_grid) whose heights reach about
+// `amplitude`: smooth (a sum of three random sine waves) or noisy (independent uniform heights).
+exactgeo::MeshSoup random_height_field(Random& random, int nx, int ny, double amplitude, bool smooth);
+
+// A flat convex polygon in the z=0 plane: `sides` corners at random angles on a random ellipse around the
+// origin, triangulated by a fan from the origin to the first of `rings` nested, scaled copies and by strips
+// between them. A geodesic on it is the straight segment between its ends.
+exactgeo::MeshSoup random_convex_polygon(Random& random, int sides, int rings);
+
+// A flat nx-by-ny grid of the unit square with up to `holes` rectangular holes (whole cells removed), each
+// at least one cell away from the border and from the others, so the domain stays connected and manifold.
+// Vertices off the outer border are moved by up to 0.15 of a cell, which keeps every triangle's orientation.
+// Vertices of removed cells only are left in, unreferenced.
+exactgeo::MeshSoup random_grid_with_holes(Random& random, int nx, int ny, int holes);
+
+// The soup turned by a random rotation about the origin.
+exactgeo::MeshSoup randomly_rotated(exactgeo::MeshSoup soup, Random& random);
+
 // ---- Distances -----------------------------------------------------------------------------------------
 
 // Largest finite value, or 0 if there is none.
