@@ -206,6 +206,10 @@ class PathBuilder {
       const std::uint32_t side = via_tail_side ? prev_halfedge(h) : next_halfedge(h);  // apex->tail or head->apex
       const Vec2 s = to_sibling_frame(surface_, h, side, source);
       const Vec2 e = to_sibling_frame(surface_, h, side, entry);
+      // A shortest path cannot leave the surface: a piece that seems to cross a boundary side runs along it
+      // (a ray grazing the border, tipped out by rounding), through the side's end in the direction it goes,
+      // which is the first vertex it runs through.
+      if (surface_.twin[side] == kNone) return s.x >= e.x ? surface_.head(side) : surface_.tail(side);
       // Where the segment e -> s meets the side's line (y = 0).
       const double along = s.y != e.y ? e.x + (s.x - e.x) * (e.y / (e.y - s.y)) : e.x;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);

@@ -229,16 +229,13 @@ TEST(Fuzz, RandomMeshesKeepEveryProperty) {
               static_cast<unsigned long long>(first_seed), failing);
 }
 
-// A known bug, found by `make fuzz` (seeds 1 to 20000); run with --gtest_also_run_disabled_tests. On nearly
-// flat smooth height fields of 3 rows, subdivided 1-to-4, path_to_vertex throws "path tracing failed: a piece
-// leaves the surface through a boundary edge" under every variant, for a source and a target on the same
-// straight side of the grid's border, whose geodesic runs along or near it: seed 19025 (7x3 cells, amplitude
-// 0.00135, rotated; source 37 = midpoint of grid (2/7, 0)-(3/7, 0), vertex 7 = corner (1, 0)) and seed 19435
-// (10x3, amplitude 0.0087; source 107 = midpoint of (0, 2/3)-(0, 1), vertex 0 = corner (0, 0); without the
-// rotation too, from sources 22 and 33 at (0, 2/3) and (0, 1)). Without the subdivision, no pair of either
-// mesh fails: the border's collinear midpoints matter. The traced piece grazes the border and leaves it by
-// rounding. The distances pass every check.
-TEST(Fuzz, DISABLED_PathsOnSubdividedNearlyFlatHeightFieldsLeaveThroughABoundaryEdge) {
+// Found by `make fuzz`: on nearly flat height fields of 3 rows, subdivided 1-to-4, a path between a source
+// and a target on the same straight side of the border runs along it, and rounding tipped the traced piece
+// out through the boundary ("path tracing failed: a piece leaves the surface through a boundary edge"):
+// seed 19025 (7x3 cells, source 37 = midpoint of (2/7, 0)-(3/7, 0), vertex 7 = corner (1, 0)) and seed 19435
+// (10x3, source 107 = midpoint of (0, 2/3)-(0, 1), vertex 0 = corner (0, 0)). The tracer now follows the
+// border to the side's end (src/path.cpp, trace_piece).
+TEST(Fuzz, PathsGrazingTheBorderOfSubdividedNearlyFlatHeightFields) {
   for (const std::uint64_t seed : {19025u, 19435u}) check_seed(seed);
 }
 
