@@ -1,87 +1,17 @@
+// Sources, targets, vertex lists and the checks of numbers on the command line.
 #include "inputs.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <system_error>
-#include <utility>
-
-#include "exactgeo/shapes.hpp"
-#include "progress.hpp"
 
 namespace exactgeo::cli {
 namespace {
-
-// The demo default `@torus`: 2 * 64 * 36 = 4,608 faces, small enough to run instantly, curved enough to
-// show the wavefront bending around bumps and saddles.
-constexpr int kDemoTorusMajorSegments = 64;
-constexpr int kDemoTorusMinorSegments = 36;
-
-constexpr const char* kMeshHelp =
-    "Mesh file (.obj, .ply, .off, .stl) or a built-in mesh:\n"
-    "  @torus          bumpy torus, 64 x 36 segments (4,608 faces): the demo default\n"
-    "  @torus:NU:NV    bumpy torus with NU segments around the ring and NV around the tube\n"
-    "  @icosphere:K    unit icosphere, icosahedron subdivided K times (20 * 4^K faces)\n"
-    "  @grid:NX:NY     flat grid of NX x NY unit squares; vertex j*(NX+1)+i is at (i, j, 0)";
-
-enum class BuiltinShape { torus, icosphere, grid };
-
-struct BuiltinMesh {
-  BuiltinShape shape;
-  std::vector<int> parameters;
-};
-
-// "@torus", "@torus:NU:NV", "@icosphere:K", "@grid:NX:NY"; nullopt for anything else. Only the syntax is
-// checked here: the generators reject values out of their range.
-std::optional<BuiltinMesh> parse_builtin_mesh(std::string_view name) {
-  if (!name.starts_with('@')) return std::nullopt;
-  name.remove_prefix(1);
-  std::vector<std::string_view> fields;
-  for (std::size_t start = 0;;) {
-    const std::size_t colon = name.find(':', start);
-    fields.push_back(name.substr(start, colon - start));
-    if (colon == std::string_view::npos) break;
-    start = colon + 1;
-  }
-
-  BuiltinMesh mesh;
-  for (std::size_t i = 1; i < fields.size(); ++i) {
-    int value = 0;
-    const char* end = fields[i].data() + fields[i].size();
-    const auto [ptr, ec] = std::from_chars(fields[i].data(), end, value);
-    if (ec != std::errc() || ptr != end || fields[i].empty()) return std::nullopt;
-    mesh.parameters.push_back(value);
-  }
-  const std::size_t count = mesh.parameters.size();
-  if (fields[0] == "torus" && (count == 0 || count == 2)) {
-    mesh.shape = BuiltinShape::torus;
-  } else if (fields[0] == "icosphere" && count == 1) {
-    mesh.shape = BuiltinShape::icosphere;
-  } else if (fields[0] == "grid" && count == 2) {
-    mesh.shape = BuiltinShape::grid;
-  } else {
-    return std::nullopt;
-  }
-  return mesh;
-}
-
-exactgeo::MeshSoup generate_builtin_mesh(const BuiltinMesh& mesh) {
-  const std::vector<int>& p = mesh.parameters;
-  switch (mesh.shape) {
-    case BuiltinShape::torus:
-      return p.empty() ? exactgeo::make_bumpy_torus(kDemoTorusMajorSegments, kDemoTorusMinorSegments)
-                       : exactgeo::make_bumpy_torus(p[0], p[1]);
-    case BuiltinShape::icosphere:
-      return exactgeo::make_icosphere(p[0]);
-    case BuiltinShape::grid:
-      return exactgeo::make_grid(p[0], p[1], p[0], p[1]);
-  }
-  throw exactgeo::Error(exactgeo::ErrorCode::internal, "unhandled built-in mesh shape");
-}
 
 // "F:b0,b1,b2": a point on input triangle F, with the barycentric weights of its three corners. Only the
 // syntax is checked here; the library checks the values against the mesh.
@@ -120,28 +50,6 @@ exactgeo::Error invalid_argument(const std::string& message) {
 }
 
 }  // namespace
-
-void add_mesh_options(CLI::App& command, MeshArguments& mesh) {
-  // A malformed built-in name is a usage error; file paths are checked when read.
-  const CLI::Validator check(
-      [](std::string& name) -> std::string {
-        if (name.starts_with('@') && !parse_builtin_mesh(name))
-          return "unknown built-in mesh '" + name + "' (use @torus, @torus:NU:NV, @icosphere:K or @grid:NX:NY)";
-        return {};
-      },
-      "", "mesh");
-  command.add_option("MESH", mesh.name, kMeshHelp)->required()->check(check)->type_name("");
-  command.add_flag("--weld", mesh.weld, "Merge vertices with identical positions");
-}
-
-LoadedMesh load_mesh(const MeshArguments& arguments) {
-  const auto start = std::chrono::steady_clock::now();
-  const std::optional<BuiltinMesh> builtin = parse_builtin_mesh(arguments.name);
-  const exactgeo::MeshSoup soup = builtin ? generate_builtin_mesh(*builtin) : exactgeo::read_mesh_soup(arguments.name);
-  const double read_seconds = seconds_since(start);
-  exactgeo::Mesh mesh(soup, exactgeo::MeshOptions{.weld_duplicate_positions = arguments.weld});
-  return {std::move(mesh), read_seconds, seconds_since(start)};
-}
 
 void add_source_options(CLI::App& command, SourceArguments& sources) {
   // A vertex index is a plain decimal number; whether it exists is up to the mesh.
@@ -249,8 +157,40 @@ std::string list_text(const std::string& argument) {
   return text.str();
 }
 
+namespace {
+
+// The position of the "vertex" column if the first line is a CSV header naming one (as `sample --out s.csv`
+// writes: sample,vertex,radius).
+std::optional<std::size_t> vertex_column(const std::string& text) {
+  std::istringstream header(text.substr(0, text.find_first_of("\r\n")));
+  std::size_t position = 0;
+  for (std::string name; std::getline(header, name, ','); ++position)
+    if (name == "vertex") return position;
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin) {
   std::vector<std::uint32_t> vertices;
+  if (const std::optional<std::size_t> column = vertex_column(text)) {
+    std::istringstream lines(text);
+    std::string line;
+    std::getline(lines, line);  // the header
+    for (std::size_t row = 2; std::getline(lines, line); ++row) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      std::vector<std::string> fields;
+      std::istringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+      const std::string field = *column < fields.size() ? fields[*column] : "";
+      const auto v = parse_vertex(field);
+      if (!v) throw invalid_argument(origin + ": line " + std::to_string(row) + ": '" + field + "' is not a vertex index");
+      vertices.push_back(*v);
+    }
+    if (vertices.empty()) throw invalid_argument(origin + ": no vertex given");
+    return vertices;
+  }
   std::string entry;
   std::istringstream entries(text);
   while (entries >> entry) {

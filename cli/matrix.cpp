@@ -47,7 +47,8 @@ Command add_matrix_command(CLI::App& app) {
   add_mesh_options(*command, arguments->mesh);
   command
       ->add_option("--sources", arguments->sources,
-                   "Source vertices, as a file or a list, separated by spaces, newlines, ',' or ';'")
+                   "Source vertices, as a file or a list, separated by spaces, newlines, ',' or ';', or a CSV file with a "
+                   "vertex column (as sample --out s.csv writes)")
       ->required()
       ->type_name("FILE|LIST");
   command->add_option("--max-distance", arguments->max_distance, "Cut-off: entries beyond it are inf (or left out)")

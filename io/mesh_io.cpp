@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,7 +11,6 @@
 #include <memory>
 #include <system_error>
 
-#include <fast_float/fast_float.h>
 
 #include "exactgeo/error.hpp"
 #include "exactgeo/io.hpp"
@@ -20,7 +20,7 @@ namespace exactgeo {
 namespace detail {
 namespace {
 
-// fast_float and std::from_chars follow C++ from_chars, which rejects a leading '+'; files do write it.
+// std::from_chars rejects a leading '+'; files do write it.
 std::string_view without_plus(std::string_view token) {
   if (token.size() > 1 && token.front() == '+' && token[1] != '-' && token[1] != '+') {
     token.remove_prefix(1);
@@ -61,8 +61,12 @@ std::string quoted(std::string_view token) {
 bool parse_double(std::string_view token, double& value) {
   token = without_plus(token);
   const char* end = token.data() + token.size();
-  const auto result = fast_float::from_chars(token.data(), end, value);
-  return result.ec == std::errc() && result.ptr == end;
+  const auto result = std::from_chars(token.data(), end, value);
+  if (result.ptr != end) return false;
+  // Beyond the range of double, from_chars leaves the value alone: the number still reads as what it rounds
+  // to, +-inf or +-0 (a coordinate of inf is then named by the mesh's own check, not called malformed).
+  if (result.ec == std::errc::result_out_of_range) value = std::strtod(std::string(token).c_str(), nullptr);
+  return result.ec == std::errc() || result.ec == std::errc::result_out_of_range;
 }
 
 bool parse_integer(std::string_view token, std::int64_t& value) {

@@ -706,6 +706,17 @@ TEST_F(Cli, NpzMatricesStreamThroughABlockOfRows) {
   EXPECT_GT(npz.size(), 6000u * 642 * 12);  // every entry is there
 }
 
+// The samples file is a sources file: matrix --sources reads the vertex column of sample's CSV.
+TEST_F(Cli, MatrixReadsTheSamplesThatSampleWrites) {
+  ASSERT_EQ(run("sample @icosphere:2 -k 4 --out " + arg("s.csv")).exit_code, 0);
+  ASSERT_EQ(run("sample @icosphere:2 -k 4 --out " + arg("s.txt")).exit_code, 0);
+  ASSERT_EQ(run("matrix @icosphere:2 --sources " + arg("s.csv") + " --out " + arg("from-csv.npy")).exit_code, 0);
+  ASSERT_EQ(run("matrix @icosphere:2 --sources " + arg("s.txt") + " --out " + arg("from-txt.npy")).exit_code, 0);
+  EXPECT_EQ(read_file(path("from-csv.npy")), read_file(path("from-txt.npy")));
+  write_file(path("bad.csv"), "sample,vertex,radius\n0,0,inf\n1,x,2\n");
+  expect_error(run("matrix @icosphere:2 --sources " + arg("bad.csv") + " --out " + arg("m.npy")), 2, "line 3: 'x'");
+}
+
 TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
   expect_error(run("distance @grid:4:4 --source-point 99:0.2,0.3,0.5"), 2, "face 99");
   expect_error(run("distance @grid:4:4 --source-point 3:0.2,0.3,0.9"), 2, "not barycentric");

@@ -118,6 +118,16 @@ TEST_F(IoObj, ReadsPositionsAndTriangles) {
 // the first `v` line was dropped and every index shifted.
 constexpr std::string_view kBom = "\xEF\xBB\xBF";
 
+// Numbers beyond double's range read as what they round to: an underflow is 0 (and subnormals stay exact), an
+// overflow is inf, which the mesh check then names (below, overflow.obj).
+TEST_F(IoObj, NumbersAtTheEdgesOfDoubleRoundAsStrtodWould) {
+  const MeshSoup soup = read_mesh_soup(write("tiny.obj", "v 1e-400 -1e-400 4.9406564584124654e-324\nv +1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  EXPECT_EQ(soup.positions[0], 0.0);
+  EXPECT_TRUE(std::signbit(soup.positions[1]));
+  EXPECT_EQ(soup.positions[2], std::numeric_limits<double>::denorm_min());
+  EXPECT_EQ(soup.positions[3], 1.0);
+}
+
 TEST_F(IoObj, ByteOrderMarkIsSkipped) {
   const MeshSoup soup = read_mesh_soup(write("bom.obj", std::string(kBom) +
                                                            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"

@@ -96,6 +96,10 @@ class GeodesicSolver:
     def mesh(self) -> Mesh:
         return self._mesh
 
+    def __reduce__(self) -> tuple[object, tuple[object, ...]]:
+        # A solver pickles as its mesh: the copy is ready to run, with no run to trace paths in yet.
+        return (GeodesicSolver, (self._mesh,))
+
     def solve(
         self,
         sources: Sites,

@@ -20,14 +20,18 @@ class Mesh:
     for non-finite coordinates, indices out of range or a mesh without a usable face.
 
     `weld_duplicate_positions` merges vertices with identical coordinates (seams) before anything else.
+
+    A Mesh pickles as its arrays and options (for multiprocessing and Dask): the copy is built and validated
+    anew, and equals the original.
     """
 
-    __slots__ = ("_core",)
+    __slots__ = ("_core", "_weld")
 
     def __init__(self, vertices: object, faces: object, *, weld_duplicate_positions: bool = False) -> None:
         positions = _inputs.real_array(vertices, "vertices", columns=3)
         triangles = _inputs.triangles_array(faces, len(positions))
         self._core = _core.Mesh(positions, triangles, bool(weld_duplicate_positions))
+        self._weld = bool(weld_duplicate_positions)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str], *, weld_duplicate_positions: bool = False) -> Mesh:
@@ -38,7 +42,12 @@ class Mesh:
         """
         mesh = cls.__new__(cls)
         mesh._core = _core.load_mesh(os.fspath(path), bool(weld_duplicate_positions))
+        mesh._weld = bool(weld_duplicate_positions)
         return mesh
+
+    def __reduce__(self) -> tuple[object, tuple[object, ...]]:
+        # The input arrays (a file's polygons already fanned into them) rebuild the same mesh.
+        return (_rebuilt_mesh, (np.array(self.vertices), np.array(self.faces), self._weld))
 
     @property
     def vertex_count(self) -> int:
@@ -69,6 +78,10 @@ class Mesh:
 
     def __repr__(self) -> str:
         return f"exactgeo.Mesh(vertex_count={self.vertex_count}, face_count={self.face_count})"
+
+
+def _rebuilt_mesh(vertices: np.ndarray, faces: np.ndarray, weld: bool) -> Mesh:
+    return Mesh(vertices, faces, weld_duplicate_positions=weld)
 
 
 def checked_mesh(mesh: object, what: str = "mesh") -> Mesh:

@@ -166,3 +166,23 @@ def test_surface_point_arguments_are_named():
         exactgeo.SurfacePoint(1.5, (1, 0, 0))
     with pytest.raises(TypeError, match="SurfacePoint: barycentric must be three real numbers"):
         exactgeo.SurfacePoint(1, ("a", 0, 0))
+
+
+def test_meshes_and_solvers_pickle_for_other_processes(tmp_path):
+    import multiprocessing
+    import pickle
+
+    vertices, faces = exactgeo.make_bumpy_torus(24, 10)
+    for weld in (False, True):
+        mesh = exactgeo.Mesh(vertices, faces, weld_duplicate_positions=weld)
+        copy = pickle.loads(pickle.dumps(mesh))
+        np.testing.assert_array_equal(copy.vertices, mesh.vertices)
+        np.testing.assert_array_equal(copy.faces, mesh.faces)
+        assert copy.report == mesh.report
+        np.testing.assert_array_equal(exactgeo.distance(copy, 3), exactgeo.distance(mesh, 3))
+    solver = pickle.loads(pickle.dumps(exactgeo.GeodesicSolver(mesh)))
+    np.testing.assert_array_equal(solver.solve(3).distances, exactgeo.distance(mesh, 3))
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        rows = pool.starmap(exactgeo.distance, [(mesh, s) for s in (0, 5)])
+    for source, row in zip((0, 5), rows):
+        np.testing.assert_array_equal(row, exactgeo.distance(mesh, source))
