@@ -64,14 +64,62 @@ def index_array(
 
 
 def triangles_array(faces: object, vertex_count: int) -> np.ndarray:
-    """(m, 3) vertex indices per face. Indices that fit 32 bits are left for the library to check."""
-    return index_array(
-        faces,
+    """(m, 3) vertex indices per triangle. Polygons, an (m, k) array with k > 3 or a list of index lists of
+    any lengths, are fan-triangulated as the file readers do: (p0, p1, p2), (p0, p2, p3), ... Indices that fit
+    32 bits are left for the library to check."""
+    out_of_range = f", but the mesh has {vertex_count} vertices"
+    polygons = _polygon_list(faces)
+    if polygons is None:
+        array = np.asarray(faces)
+        columns = 3 if array.ndim != 2 or array.shape[1] < 3 else array.shape[1]
+        checked = index_array(
+            faces, "faces", columns=columns, element=lambda p: f"face {p[0]} names vertex", out_of_range=out_of_range
+        )
+        if columns == 3:
+            return checked
+        _check_polygon_range(checked.reshape(-1), np.arange(0, checked.size + 1, columns), vertex_count)
+        fan = [np.stack([checked[:, 0], checked[:, i - 1], checked[:, i]], axis=1) for i in range(2, columns)]
+        return np.ascontiguousarray(np.stack(fan, axis=1).reshape(-1, 3))
+    sizes = np.array([len(polygon) for polygon in polygons], dtype=np.int64)
+    if sizes.size and sizes.min() < 3:
+        face = int(np.argmax(sizes < 3))
+        raise ValueError(f"face {face} has {sizes[face]} vertices; a face needs at least 3")
+    starts = np.concatenate([[0], np.cumsum(sizes)])
+    flat = np.concatenate([np.asarray(polygon).reshape(-1) for polygon in polygons]) if polygons else np.empty(0)
+    indices = index_array(
+        flat,
         "faces",
-        columns=3,
-        element=lambda position: f"face {position[0]} names vertex",
-        out_of_range=f", but the mesh has {vertex_count} vertices",
+        columns=None,
+        element=lambda p: f"face {int(np.searchsorted(starts, p[0], side='right')) - 1} names vertex",
+        out_of_range=out_of_range,
     )
+    _check_polygon_range(indices, starts, vertex_count)
+    triangles = [
+        (indices[start], indices[start + i - 1], indices[start + i])
+        for start, size in zip(starts[:-1], sizes)
+        for i in range(2, size)
+    ]
+    return np.array(triangles, dtype=np.uint32).reshape(-1, 3)
+
+
+def _check_polygon_range(indices: np.ndarray, starts: np.ndarray, vertex_count: int) -> None:
+    """Named by polygon here: once fanned, the library would count triangles instead."""
+    if indices.size and indices.max() >= vertex_count:
+        position = int(np.argmax(indices >= vertex_count))
+        face = int(np.searchsorted(starts, position, side="right")) - 1
+        raise ValueError(f"face {face} names vertex {indices[position]}, but the mesh has {vertex_count} vertices")
+
+
+def _polygon_list(faces: object) -> list | None:
+    """The faces as a list of index sequences if they are a sequence of sequences of different lengths."""
+    if isinstance(faces, np.ndarray) and faces.dtype != object:
+        return None
+    if not isinstance(faces, (list, tuple, np.ndarray)) or len(faces) == 0:
+        return None
+    if not all(isinstance(face, (list, tuple, np.ndarray)) for face in faces):
+        return None
+    lengths = {len(face) for face in faces}
+    return list(faces) if len(lengths) > 1 else None
 
 
 def vertex_array(vertices: object, vertex_count: int, what: str, name: Callable[[int], str]) -> np.ndarray:

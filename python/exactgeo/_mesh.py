@@ -14,6 +14,8 @@ class Mesh:
 
     `vertices` is (n, 3) coordinates and `faces` is (m, 3) zero-based vertex indices, of any real and any
     integer dtype respectively (float indices must be whole numbers), C or Fortran order, or nested lists.
+    Polygons ((m, k) arrays, or lists of index lists of any lengths) are fan-triangulated as Mesh.load does;
+    face indices (in reports, SurfacePoints, paths) then count the triangles.
     Real-world meshes are accepted as they are: vertices used by no face (distance inf), faces repeating a
     vertex (dropped), degenerate faces, holes, several components, non-manifold edges and vertices (cut into
     a manifold surface), see `report`. Raises ValueError, with the library's message naming the element,

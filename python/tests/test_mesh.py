@@ -137,7 +137,7 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
         (SQUARE, [[0, 1, np.nan]], "faces must be whole numbers: face 0 names vertex nan"),
         (SQUARE, [[True, False, True]], "faces must be integer indices, not booleans"),
         (SQUARE, [["0", "1", "2"]], "faces must be integer indices, not dtype <U1"),
-        (SQUARE, [[0, 1, 2, 3]], r"faces must have shape \(n, 3\), not \(1, 4\)"),
+        (SQUARE, [[0, 1]], r"faces must have shape \(n, 3\), not \(1, 2\)"),
         (SQUARE, [0, 1, 2], r"faces must have shape \(n, 3\), not \(3,\)"),
         ([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), not \(3, 2\)"),
         ([[0, 0, 1j], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
@@ -186,3 +186,22 @@ def test_meshes_and_solvers_pickle_for_other_processes(tmp_path):
         rows = pool.starmap(exactgeo.distance, [(mesh, s) for s in (0, 5)])
     for source, row in zip((0, 5), rows):
         np.testing.assert_array_equal(row, exactgeo.distance(mesh, source))
+
+
+def test_polygons_are_fan_triangulated_like_the_file_readers(tmp_path):
+    vertices = [[0, 0, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [0, 1, 0], [1, 2, 0]]
+    quads_and_a_triangle = [[0, 1, 4, 5], [1, 2, 3, 4], [5, 4, 6]]
+    path = tmp_path / "mixed.obj"
+    path.write_text(
+        "".join(f"v {x} {y} {z}\n" for x, y, z in vertices)
+        + "".join("f " + " ".join(str(i + 1) for i in face) + "\n" for face in quads_and_a_triangle)
+    )
+    loaded = exactgeo.Mesh.load(path)
+    built = exactgeo.Mesh(vertices, quads_and_a_triangle)
+    np.testing.assert_array_equal(built.faces, loaded.faces)
+    quads = exactgeo.Mesh(vertices, np.array(quads_and_a_triangle[:2]))  # an (m, 4) array
+    np.testing.assert_array_equal(quads.faces, loaded.faces[:4])
+    with pytest.raises(ValueError, match="face 1 has 2 vertices; a face needs at least 3"):
+        exactgeo.Mesh(vertices, [[0, 1, 4], [1, 2]])
+    with pytest.raises(ValueError, match="face 1 names vertex 9, but the mesh has 7 vertices"):
+        exactgeo.Mesh(vertices, [[0, 1, 4, 5], [1, 2, 9]])
