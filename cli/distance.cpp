@@ -2,6 +2,7 @@
 // per target, with statistics as JSON and a summary on stdout.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <string_view>
@@ -46,6 +47,19 @@ Reach reach_of(std::span<const double> distances) {
     }
   }
   return reach;
+}
+
+// Vertices used by faces yet unreachable, on a mesh with vertices at duplicate positions: most likely split
+// at texture or normal seams by the program that wrote it; --weld joins them again.
+void warn_if_seams_cut_the_surface(const DistanceArguments& arguments, const exactgeo::Mesh& mesh, const Reach& reach) {
+  const exactgeo::MeshReport& report = mesh.report();
+  if (arguments.mesh.weld || !arguments.targets.empty() || !std::isinf(arguments.max_distance) ||
+      report.duplicate_positions == 0 || reach.unreachable <= report.unreferenced_vertices)
+    return;
+  std::fprintf(stderr,
+               "exactgeo: warning: %zu of %zu vertices are unreachable, and %zu vertices repeat another's position "
+               "(seams): --weld joins them\n",
+               reach.unreachable - report.unreferenced_vertices, mesh.vertex_count(), report.duplicate_positions);
 }
 
 nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const LoadedMesh& loaded,
@@ -143,6 +157,7 @@ int run_distance(const DistanceArguments& arguments) {
   const exactgeo::GeodesicResult& result = solve(solver, sources, targets, options);
   progress.finish();
   const Reach reach = reach_of(result.distances);
+  warn_if_seams_cut_the_surface(arguments, mesh, reach);
 
   const auto labels_if_asked = [&](const std::vector<std::uint32_t>& labels) {
     return arguments.labels ? std::span<const std::uint32_t>(labels) : std::span<const std::uint32_t>();

@@ -52,14 +52,19 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
   // Beside the destination, so that the rename stays on one file system; hidden, and named as unfinished.
   const std::filesystem::path destination(path_);
   temporary_ = (destination.parent_path() / ("." + destination.filename().string() + ".partial-XXXXXX")).string();
+  // Tracked before it exists: mkstemp fills in the name in place, so a signal at any moment finds the file
+  // it created (or none yet).
+  track_unfinished(temporary_.c_str());
   const int descriptor = ::mkstemp(temporary_.data());
-  if (descriptor < 0) throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
+  if (descriptor < 0) {
+    forget_unfinished(temporary_.c_str());
+    throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
+  }
   // mkstemp makes the file private (0600); an output gets the permissions a new file would have.
   const ::mode_t mask = ::umask(0);
   ::umask(mask);
   ::fchmod(descriptor, 0666 & ~mask);
   ::close(descriptor);
-  track_unfinished(temporary_.c_str());
 }
 
 OutputFile::~OutputFile() {

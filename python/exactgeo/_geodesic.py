@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import threading
+import warnings
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, Literal, TypedDict, overload
 
@@ -132,7 +133,10 @@ class GeodesicSolver:
             return self._core.solve_from_vertices(starts, ends.faces, ends.barycentric, config, reporter)
 
         *arrays, self._last_run.number = run_with_progress(progress, "distances", 1000, run)
-        return GeodesicResult(*arrays)
+        result = GeodesicResult(*arrays)
+        if targets is None and max_distance is None:
+            _warn_if_seams_cut_the_surface(self._mesh, result.distances)
+        return result
 
     def _run_number(self) -> int:
         """This thread's last run; 0 before its first, which only a solver that never ran accepts."""
@@ -146,6 +150,22 @@ class GeodesicSolver:
     def path_to_target(self, target: int) -> GeodesicPath:
         """The shortest path of the last run to its target number `target`."""
         return GeodesicPath._of(self._core.path_to_target(_inputs.count(target, "target"), self._run_number()))
+
+
+def _warn_if_seams_cut_the_surface(mesh: Mesh, distances: np.ndarray) -> None:
+    """Vertices used by faces yet unreachable, on a mesh with vertices at duplicate positions: most likely a
+    mesh library split it at texture or normal seams, and welding joins it again."""
+    report = mesh.report
+    if mesh._weld or report.duplicate_positions == 0:
+        return
+    unreachable = int(np.count_nonzero(np.isinf(distances))) - report.unreferenced_vertices
+    if unreachable > 0:
+        warnings.warn(
+            f"{unreachable} of {mesh.vertex_count} vertices are unreachable, and {report.duplicate_positions} "
+            "vertices repeat another's position (seams, as mesh libraries split meshes): "
+            "exactgeo.Mesh(..., weld_duplicate_positions=True) joins them",
+            stacklevel=3,
+        )
 
 
 @overload

@@ -81,6 +81,7 @@ def test_report_matches_the_command_line(cli):
     assert set(report) == set(expected) - {"mesh"}
 
 
+@pytest.mark.filterwarnings("ignore:.*vertices are unreachable:UserWarning")  # the unwelded run, on purpose
 def test_load_reads_files_and_weld_merges_seams(tmp_path):
     vertices, faces = exactgeo.make_grid(3, 3, 1.0, 1.0)
     path = write_obj(tmp_path / "grid.obj", vertices, faces)
@@ -205,3 +206,21 @@ def test_polygons_are_fan_triangulated_like_the_file_readers(tmp_path):
         exactgeo.Mesh(vertices, [[0, 1, 4], [1, 2]])
     with pytest.raises(ValueError, match="face 1 names vertex 9, but the mesh has 7 vertices"):
         exactgeo.Mesh(vertices, [[0, 1, 4, 5], [1, 2, 9]])
+
+
+def test_seams_that_cut_the_surface_are_pointed_out_with_the_fix(tmp_path):
+    # Two triangles sharing an edge by position only, as trimesh leaves a mesh split at a texture seam.
+    vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    faces = [[0, 1, 2], [3, 4, 5]]
+    with pytest.warns(UserWarning, match=r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True"):
+        exactgeo.distance(exactgeo.Mesh(vertices, faces), 0)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        welded = exactgeo.distance(exactgeo.Mesh(vertices, faces, weld_duplicate_positions=True), 0)
+        assert np.isfinite(welded).all()
+        exactgeo.distance(exactgeo.Mesh(vertices, faces), 0, max_distance=0.5)  # a cut-off explains inf
+    path = write_obj(tmp_path / "seam.obj", np.array(vertices, float), np.array(faces))
+    assert "--weld" in run_cli("distance", path, "--source", "0").stderr
+    assert "warning" not in run_cli("distance", path, "--source", "0", "--weld").stderr
