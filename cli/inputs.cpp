@@ -171,26 +171,31 @@ std::optional<std::size_t> vertex_column(const std::string& text) {
 
 }  // namespace
 
-std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin) {
+namespace {
+
+// The `column` field of each row after the header line.
+std::vector<std::uint32_t> csv_column_vertices(const std::string& text, std::size_t column, const std::string& origin) {
   std::vector<std::uint32_t> vertices;
-  if (const std::optional<std::size_t> column = vertex_column(text)) {
-    std::istringstream lines(text);
-    std::string line;
-    std::getline(lines, line);  // the header
-    for (std::size_t row = 2; std::getline(lines, line); ++row) {
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.empty()) continue;
-      std::vector<std::string> fields;
-      std::istringstream cells(line);
-      for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
-      const std::string field = *column < fields.size() ? fields[*column] : "";
-      const auto v = parse_vertex(field);
-      if (!v) throw invalid_argument(origin + ": line " + std::to_string(row) + ": '" + field + "' is not a vertex index");
-      vertices.push_back(*v);
-    }
-    if (vertices.empty()) throw invalid_argument(origin + ": no vertex given");
-    return vertices;
+  std::istringstream lines(text);
+  std::string line;
+  std::getline(lines, line);  // the header
+  for (std::size_t row = 2; std::getline(lines, line); ++row) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::vector<std::string> fields;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    const std::string field = column < fields.size() ? fields[column] : "";
+    const auto v = parse_vertex(field);
+    if (!v) throw invalid_argument(origin + ": line " + std::to_string(row) + ": '" + field + "' is not a vertex index");
+    vertices.push_back(*v);
   }
+  return vertices;
+}
+
+// Indices separated by spaces, newlines, ',' or ';'.
+std::vector<std::uint32_t> listed_vertices(const std::string& text, const std::string& origin) {
+  std::vector<std::uint32_t> vertices;
   std::string entry;
   std::istringstream entries(text);
   while (entries >> entry) {
@@ -203,6 +208,15 @@ std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std:
       vertices.push_back(*v);
     }
   }
+  return vertices;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin) {
+  const std::optional<std::size_t> column = vertex_column(text);
+  std::vector<std::uint32_t> vertices =
+      column ? csv_column_vertices(text, *column, origin) : listed_vertices(text, origin);
   if (vertices.empty()) throw invalid_argument(origin + ": no vertex given");
   return vertices;
 }
