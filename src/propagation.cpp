@@ -104,6 +104,26 @@ bool stays_above(double at_start, double at_end, double min_slope, double max_sl
   return at_start + min_slope * std::clamp(t, 0.0, span) > floor;
 }
 
+// Rule 1 for the rays of `w` on the far side of the list's separating point sp (paper Proposition 4.1, in
+// the form the released 2016 code checks). w covers sp, and its ray through `end` (on the far side) meets
+// w_s's straight path from its pseudo-source p_s to sp behind the edge, at Y. The rays of w form a flat
+// fan without vertices inside, so inside that fan w_s's path is the straight line back from sp: Y is one
+// surface point on both paths, and so is every point where w_s's path crosses the rays of w between sp
+// and `end`. Along w_s's path towards sp the excess D_w - D_ws can only fall (|Y - p_s| grows at rate 1,
+// |Y - p_w| at most as fast), so if w_s is shorter at sp by more than the tolerance, it is at every such
+// crossing, and each of those rays of w is beaten beyond it by w_s's path to the crossing followed by the
+// rest of the ray.
+bool beaten_beyond_separating_point(const Window& w, double end, const Window& ws, double sp, double prune) {
+  const double sx = sp - ws.px, sy = -ws.py;  // w_s's path: p_s + u (sx, sy), u in [0, 1]
+  const double rx = end - w.px, ry = -w.py;   // w's ray: p_w + t (rx, ry), t in [0, 1]
+  const double denominator = rx * sy - ry * sx;
+  if (denominator == 0) return false;
+  const double cx = ws.px - w.px, cy = ws.py - w.py;
+  const double t = (cx * sy - cy * sx) / denominator, u = (cx * ry - cy * rx) / denominator;
+  if (!(t >= 0 && t <= 1 && u >= 0 && u <= 1)) return false;
+  return distance_at(w, sp) > distance_at(ws, sp) + prune;
+}
+
 enum class Verdict { keep, trimmed, removed };
 
 // Over the overlap of `first` and `second` (same edge, same side), trims from either window the end
@@ -264,8 +284,16 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
     // window would reach C more cheaply than w_s); likewise for rays entering right of s that would reach AC.
     double left_end = std::min(w.b1, splits[i]), right_start = std::max(w.b0, splits[i]);
     if (rule1) {
-      left_end = std::min(left_end, reach.separating_point);
-      right_start = std::max(right_start, reach.separating_point);
+      const double sp = reach.separating_point;
+      left_end = std::min(left_end, sp);
+      right_start = std::max(right_start, sp);
+      // Rays on the far side of sp that Rule 1 let through (their own split point is on the same side).
+      const Window& ws = list[reach.window];
+      if (left_end == sp && left_end - w.b0 > tol.min_width && beaten_beyond_separating_point(w, w.b0, ws, sp, tol.prune))
+        left_end = w.b0;
+      if (right_start == sp && w.b1 - right_start > tol.min_width &&
+          beaten_beyond_separating_point(w, w.b1, ws, sp, tol.prune))
+        right_start = w.b1;
     }
     if (left_end - w.b0 > tol.min_width) {
       ++propagations;
