@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string_view>
 
 #include "command.hpp"
@@ -28,6 +29,7 @@ struct DistanceArguments {
   bool no_rule1 = false;
   bool no_rule23 = false;
   bool timers = false;
+  std::optional<unsigned> threads;
   bool quiet = false;
 };
 
@@ -78,6 +80,7 @@ nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const Load
   json["algorithm"] = exactgeo::algorithm_name(options.algorithm);
   json["rule1"] = options.rule1;
   json["rule23"] = options.rule23;
+  json["threads"] = options.threads;
   json["read_seconds"] = loaded.read_seconds;
   json["build_seconds"] = loaded.build_seconds;
   json.update(stats_json(stats, arguments.timers));
@@ -122,6 +125,7 @@ Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const
     if (!options.rule23) variant += ", Rules 2 and 3 off";
     rows.emplace_back("algorithm", variant);
   }
+  if (options.threads != 1) rows.emplace_back("threads", std::to_string(options.threads));
   if (!std::isinf(arguments.max_distance)) rows.emplace_back("cut-off", format_number("%.12g", arguments.max_distance));
   rows.emplace_back("max distance", format_number("%.12g", reach.max_distance));
   rows.emplace_back(cut_off ? "unreachable or beyond" : "unreachable", std::to_string(reach.unreachable));
@@ -153,7 +157,8 @@ int run_distance(const DistanceArguments& arguments) {
                                           .rule1 = !arguments.no_rule1,
                                           .rule23 = !arguments.no_rule23,
                                           .max_distance = arguments.max_distance,
-                                          .collect_timings = arguments.timers};
+                                          .collect_timings = arguments.timers,
+                                          .threads = threads_for(arguments.threads, mesh)};
   const exactgeo::GeodesicResult& result = solve(solver, sources, targets, options);
   progress.finish();
   const Reach reach = reach_of(result.distances);
@@ -217,6 +222,7 @@ Command add_distance_command(CLI::App& app) {
   command->add_flag("--timers", a.timers,
                     "Split the propagation time into window propagation, pruning and queue (in --stats; the clock "
                     "reads slow the run down by up to 60%)");
+  add_threads_option(*command, a.threads);
   command->add_flag("--quiet", a.quiet, "No progress line on stderr");
   command->footer(kExitCodesHelp);
   return {command, [arguments] { return run_distance(*arguments); }};

@@ -234,6 +234,19 @@ const CLI::Validator& distance_check() {
   return check;
 }
 
+void add_threads_option(CLI::App& command, std::optional<unsigned>& threads) {
+  command
+      .add_option("--threads", threads,
+                  "Threads sharing the propagation (0: one per core; default: one per core from 50,000 faces, else "
+                  "1). The distances are the same for every count above 1, and agree with one thread's to 1e-14")
+      ->check(count_check())
+      ->type_name("N");
+}
+
+unsigned threads_for(const std::optional<unsigned>& threads, const exactgeo::Mesh& mesh) {
+  return threads ? *threads : exactgeo::recommended_threads(mesh);
+}
+
 const CLI::Validator& count_check() {
   static const CLI::Validator check(
       [](std::string& text) -> std::string {

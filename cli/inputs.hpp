@@ -63,6 +63,11 @@ std::string list_text(const std::string& argument);
 // Vertex indices separated by spaces, newlines, ',' or ';'.
 std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin);
 
+// --threads for commands that run one propagation: how many threads share it. Unset, the library's
+// recommendation for the mesh (every core on large meshes); 0, one per core.
+void add_threads_option(CLI::App& command, std::optional<unsigned>& threads);
+unsigned threads_for(const std::optional<unsigned>& threads, const exactgeo::Mesh& mesh);
+
 // A check for options taking a distance: a number, not negative.
 const CLI::Validator& distance_check();
 // A check for options taking a count: digits only, so that "-1" is an error rather than a huge number.

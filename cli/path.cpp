@@ -1,6 +1,7 @@
 // exactgeo path: the shortest path from the nearest source to one target, written as a file or printed.
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "command.hpp"
 #include "inputs.hpp"
@@ -14,6 +15,7 @@ struct PathArguments {
   SourceArguments sources;
   std::string target;
   std::string out;
+  std::optional<unsigned> threads;
 };
 
 int run_path(const PathArguments& arguments) {
@@ -25,7 +27,7 @@ int run_path(const PathArguments& arguments) {
     throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
                           "--target takes one vertex or point, not " + std::to_string(targets.size()));
   exactgeo::GeodesicSolver solver(mesh);
-  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, {});
+  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, {.threads = threads_for(arguments.threads, mesh)});
   const exactgeo::GeodesicPath path = solver.path_to_target(0);
   if (!arguments.out.empty()) {
     const PathWriter write = find_format(kPathFormats, arguments.out)->write;
@@ -56,6 +58,7 @@ Command add_path_command(CLI::App& app) {
   command->add_option("--target", arguments->target, "Target vertex index or point F:b0,b1,b2")
       ->required()
       ->type_name("I|F:b0,b1,b2");
+  add_threads_option(*command, arguments->threads);
   add_output_option(*command, "--out", arguments->out,
                     "Write the path: .csv (x,y,z and where each point lies), .obj (a polyline) or .json; without "
                     "it the points are printed",

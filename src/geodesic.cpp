@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <thread>
 
 #include "exactgeo/error.hpp"
 #include "surface_point.hpp"
@@ -11,11 +12,27 @@
 
 namespace exactgeo {
 
+namespace {
+
+// More threads than this for one run are a mistake (a count meant for something else), not a machine.
+constexpr unsigned kMaxThreads = 1024;
+// Faces from which one run gains from every core (see docs/performance.md).
+constexpr std::uint32_t kParallelFaceCount = 50000;
+
+}  // namespace
+
 void detail::check_options(const GeodesicOptions& options) {
   algorithm_name(options.algorithm);  // throws for a value outside the enum
   if (!(options.max_distance >= 0))
     throw Error(ErrorCode::invalid_argument,
                 "max_distance must be a non-negative number, not " + std::to_string(options.max_distance));
+  if (options.threads > kMaxThreads)
+    throw Error(ErrorCode::invalid_argument, "threads must be at most " + std::to_string(kMaxThreads) + " (0: one per core), not " +
+                                                 std::to_string(options.threads));
+}
+
+unsigned recommended_threads(const Mesh& mesh) {
+  return mesh.face_count() >= kParallelFaceCount ? std::max(1u, std::thread::hardware_concurrency()) : 1;
 }
 
 namespace {

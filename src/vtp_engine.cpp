@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 #include "assert.hpp"
+#include "phase_timer.hpp"
 #include "stop.hpp"
 #include "tolerances.hpp"
 
@@ -76,23 +78,6 @@ class ShadowCone {
   double period_;  // the fan's total angle for a closed fan, 0 for an open one
 };
 
-// Adds the time until it goes out of scope to `bucket`, if timing is on; costs one branch otherwise.
-class PhaseTimer {
- public:
-  PhaseTimer(bool on, double& bucket) : bucket_(on ? &bucket : nullptr) {
-    if (bucket_) start_ = std::chrono::steady_clock::now();
-  }
-  ~PhaseTimer() {
-    if (bucket_) *bucket_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  PhaseTimer(const PhaseTimer&) = delete;
-  PhaseTimer& operator=(const PhaseTimer&) = delete;
-
- private:
-  double* bucket_;
-  std::chrono::steady_clock::time_point start_;
-};
-
 // Vertex (or face) pops between two progress reports and checks for a stop request: a few milliseconds.
 constexpr std::uint64_t kProgressInterval = 4096;
 
@@ -157,10 +142,14 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
       relax(v, 0.0, Arrival{v});
     }
   }
-  if (face_sorted_)
+  const unsigned threads = options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
+  if (face_sorted_) {
     run_face_sorted();
-  else
+  } else if (threads > 1) {
+    run_vertex_sorted_in_bands(threads);
+  } else {
     run_vertex_sorted();
+  }
   // Paths through a corner are only final now that every vertex distance is.
   for (std::uint32_t f = 0; f + 1 < face_target_offsets_.size(); ++f)
     if (face_target_offsets_[f] != face_target_offsets_[f + 1]) evaluate_targets_from_corners(f);
@@ -180,18 +169,24 @@ void VtpEngine::run_vertex_sorted() {
       const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
       v = vertex_queue_.pop();
     }
-    // A vertex's state only moves forward (unseen, queued, inside): only queued vertices are in the queue.
-    EXACTGEO_ASSERT(state_[v] == VertexState::queued);
-    state_[v] = VertexState::inside;
     ++iteration_;
-    ++stats_.vertex_pops;
-    checkpoint(stats_.vertex_pops, static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
-    if (bends_paths(v)) emit(v);
-    for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
-      const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
-      if (face_visited_at_[f] == kNone) enter_face(f);
-    }
+    enclose_vertex(v);
     drain();
+  }
+}
+
+// v, just taken from the queue, moves inside: as a pseudo-source it emits, and its faces join the traversed
+// area.
+void VtpEngine::enclose_vertex(std::uint32_t v) {
+  // A vertex's state only moves forward (unseen, queued, inside): only queued vertices are in the queue.
+  EXACTGEO_ASSERT(state_[v] == VertexState::queued);
+  state_[v] = VertexState::inside;
+  ++stats_.vertex_pops;
+  checkpoint(stats_.vertex_pops, static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
+  if (bends_paths(v)) emit(v);
+  for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+    const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
+    if (face_visited_at_[f] == kNone) enter_face(f);
   }
 }
 
@@ -403,10 +398,7 @@ void VtpEngine::emit(std::uint32_t v) {
 void VtpEngine::drain() {
   while (!pending_.empty() || !emit_queue_.empty()) {
     if (!emit_queue_.empty()) {
-      const std::uint32_t v = emit_queue_.back();
-      emit_queue_.pop_back();
-      emit_scheduled_[v] = 0;
-      if (distance_[v] < emitted_at_[v] - tolerances_.prune) emit(v);
+      emit_lowered_pseudo_source();
       continue;
     }
     const std::uint32_t h = pending_.front();
@@ -414,6 +406,14 @@ void VtpEngine::drain() {
     scheduled_[h] = 0;
     cross(h);
   }
+}
+
+// A pseudo-source inside the traversed area whose distance dropped since it emitted emits again.
+void VtpEngine::emit_lowered_pseudo_source() {
+  const std::uint32_t v = emit_queue_.back();
+  emit_queue_.pop_back();
+  emit_scheduled_[v] = 0;
+  if (distance_[v] < emitted_at_[v] - tolerances_.prune) emit(v);
 }
 
 // Propagates the list entering face(h) through h across that face (paper Section 4).
@@ -451,53 +451,68 @@ void VtpEngine::cross(std::uint32_t h) {
 // x = 0) to the list on the other side of that edge.
 void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime) {
   if (windows.empty()) return;
+  const Handover to = hand_over(side, windows, origin, prime);
+  if (to.edge == kNone) return;
+  windows.resize(to.count);
+  if (to.joining != Joining::inside) {
+    if (face_sorted_) queue_face(to.edge, windows);
+    if (!lists_.empty(to.edge)) ++(prime ? stats_.prime_merges : stats_.secondary_merges);
+  }
+  const std::span<Window> list = lists_.extend(to.edge, windows.size());
+  std::copy(windows.begin(), windows.end(), list.end() - static_cast<std::ptrdiff_t>(windows.size()));
+  lists_.shrink_to(to.edge, join(list, windows.size(), to.joining, stats_));
+  if (to.joining == Joining::inside) schedule(to.edge);
+}
+
+// Moves windows that crossed to `side` into the frame of the halfedge on the other side (kept ordered
+// along it) and drops those beyond the cut-off (the kept ones come first), and says how they join its list.
+VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin,
+                                         bool prime) const {
   const std::uint32_t g = mesh_.twin[side];
-  if (g == kNone) return;  // a boundary edge: the windows leave the surface
+  if (g == kNone) return {kNone, Joining::inside, 0};  // a boundary edge: the windows leave the surface
   const bool reversed = mesh_.tail(g) != origin;
   const double length = mesh_.halfedges[side].length;
   for (Window& w : windows) w = to_twin_frame(w, length, reversed);
-  if (reversed) std::reverse(windows.begin(), windows.end());  // keep the list ordered along g
-  if (cutoff_ < HUGE_VAL)
-    windows.erase(std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w); }),
-                  windows.end());
-
-  const bool inside = face_visited_at_[face_of(g)] != kNone;
-  if (!inside) {
-    if (face_sorted_) queue_face(g, windows);
-    if (!lists_.empty(g)) ++(prime ? stats_.prime_merges : stats_.secondary_merges);
-  }
-  if (!inside && prime && options_.rule23) {
-    // Rule 3: PrimeMerge on a new wavefront edge. The Rule 2 walk over the crossed windows continues from
-    // the list already there, so it prunes them among themselves and across the junction in one pass.
-    const std::span<Window> list = lists_.extend(g, windows.size());
-    const std::size_t old_size = list.size() - windows.size();
-    std::copy(windows.begin(), windows.end(), list.begin() + static_cast<std::ptrdiff_t>(old_size));
-    const PhaseTimer timer(options_.collect_timings, stats_.pruning_seconds);
-    lists_.shrink_to(g, prune_neighbours(list, old_size, tolerances_));
-    return;
-  }
-  if (options_.rule23) {  // Rule 2
-    const PhaseTimer timer(options_.collect_timings, stats_.pruning_seconds);
-    windows.resize(prune_neighbours(windows, 0, tolerances_));
-  }
-  if (inside) {  // inside the traversed area: keep moving
-    lists_.append(g, windows);
-    schedule(g);
-  } else {
-    merge_into_wavefront(g, windows, reversed);
-  }
+  if (reversed) std::reverse(windows.begin(), windows.end());
+  auto kept = windows.end();
+  if (cutoff_ < HUGE_VAL) kept = std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w); });
+  Joining joining;
+  if (face_visited_at_[face_of(g)] != kNone)
+    joining = Joining::inside;
+  else if (prime && options_.rule23)
+    joining = Joining::prime_merge;
+  else if (order_preserving_)
+    joining = Joining::wavefront_ordered;
+  else
+    joining = reversed ? Joining::wavefront_back : Joining::wavefront_front;
+  return {g, joining, static_cast<std::uint32_t>(kept - windows.begin())};
 }
 
-// SecondMerge (paper Section 5.1) of windows arriving at wavefront edge g from inside the traversed area.
-// Order-free: windows that came from the side of g's tail go first, the others last; both keep their own
-// order. Order-preserving: each is inserted where its start belongs, found by binary search.
-void VtpEngine::merge_into_wavefront(std::uint32_t g, std::span<const Window> windows, bool reversed) {
-  if (order_preserving_)
-    lists_.insert_ordered(g, windows);
-  else if (!reversed)
-    lists_.prepend(g, windows);
-  else
-    lists_.append(g, windows);
+// Joins the last `added` windows of `list` (an edge's list, extended by the windows arriving there) to the
+// ones before them; returns the joined list's size.
+// - prime_merge: Rule 3's PrimeMerge on a new wavefront edge. The Rule 2 walk over the arriving windows
+//   continues from the list already there, so it prunes them among themselves and across the junction in
+//   one pass.
+// - otherwise the arriving windows are pruned among themselves (Rule 2), then stay at the end (inside the
+//   traversed area, to keep moving; or on an older wavefront edge when they came from the side of its head)
+//   or join it by SecondMerge (paper Section 5.1): order-free, windows that came from the side of the
+//   edge's tail go first; order-preserving, each is inserted where its start belongs.
+std::size_t VtpEngine::join(std::span<Window> list, std::size_t added, Joining joining, GeodesicStats& stats) const {
+  const std::size_t old_size = list.size() - added;
+  if (joining == Joining::prime_merge) {
+    const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
+    return prune_neighbours(list, old_size, tolerances_);
+  }
+  if (options_.rule23) {
+    const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
+    added = prune_neighbours(list.subspan(old_size), 0, tolerances_);
+  }
+  const std::span<Window> joined = list.first(old_size + added);
+  if (joining == Joining::wavefront_front)
+    std::rotate(joined.begin(), joined.begin() + static_cast<std::ptrdiff_t>(old_size), joined.end());
+  else if (joining == Joining::wavefront_ordered)
+    insert_in_order(joined, old_size);
+  return joined.size();
 }
 
 // ---------------------------------------------------------------------------------------------------

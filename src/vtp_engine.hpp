@@ -14,10 +14,12 @@
 // per-vertex arrivals from which paths are traced back.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -27,6 +29,7 @@
 #include "surface_point.hpp"
 #include "wavefront_queue.hpp"
 #include "windows.hpp"
+#include "worker_pool.hpp"
 
 namespace exactgeo::detail {
 
@@ -80,6 +83,8 @@ class VtpEngine {
   enum class VertexState : std::uint8_t { unseen, queued, inside };
 
   void run_vertex_sorted();
+  void run_vertex_sorted_in_bands(unsigned threads);
+  void enclose_vertex(std::uint32_t v);
   void run_face_sorted();
   void checkpoint(std::uint64_t pops, double fraction);
   void enter_face(std::uint32_t f);
@@ -89,13 +94,25 @@ class VtpEngine {
   void push_vertex(std::uint32_t v, double d);
   FaceFrame face_frame(std::uint32_t h) const;
   void queue_face(std::uint32_t g, std::span<const Window> arriving);
-  void merge_into_wavefront(std::uint32_t g, std::span<const Window> windows, bool reversed);
   void schedule(std::uint32_t h);
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
   void emit(std::uint32_t v);
+  void emit_lowered_pseudo_source();
   void drain();
+  void drain_in_rounds();
   void cross(std::uint32_t h);
   void deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime);
+
+  // How windows crossing an edge join the list on its other side, halfedge `edge` (kNone: a boundary edge,
+  // where they leave the surface).
+  enum class Joining : std::uint8_t { prime_merge, inside, wavefront_front, wavefront_back, wavefront_ordered };
+  struct Handover {
+    std::uint32_t edge;
+    Joining joining;
+    std::uint32_t count;  // windows left after the cut-off
+  };
+  Handover hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime) const;
+  std::size_t join(std::span<Window> list, std::size_t added, Joining joining, GeodesicStats& stats) const;
   void place_new_window(std::uint32_t g, const Window& w);
   bool beyond_cutoff(const Window& w) const;
 
@@ -128,6 +145,41 @@ class VtpEngine {
   std::vector<std::uint32_t> emit_queue_;
   std::vector<Window> to_ac_, to_bc_;
   std::vector<double> splits_, key_splits_;
+
+  // Parallel propagation (options_.threads > 1, vertex-sorted): each round crosses every scheduled list at
+  // once, then joins the crossed windows to the lists they reach, each list by one thread. Which thread does
+  // what changes nothing: a round's lists, their order and everything they read are fixed before it starts.
+  struct RoundCrossing {
+    std::uint32_t halfedge;
+    std::uint32_t thread;  // whose buffers hold the crossed windows
+    ApexReach reach;
+    std::uint64_t propagations;
+    std::array<std::uint32_t, 2> begin;  // to AC and to BC, in the thread's buffers
+    std::array<Handover, 2> handover;
+  };
+  struct RoundDelivery {
+    std::uint32_t crossing, side;  // side 0: to AC, 1: to BC
+  };
+  struct RoundJoin {
+    std::uint32_t edge;
+    std::uint32_t size;  // the list's size before the round, then once joined
+    std::uint32_t deliveries = 0;
+    std::array<RoundDelivery, 2> delivery;  // in the round's order; an edge is reached from one face only
+  };
+  struct alignas(64) ThreadScratch {  // a cache line of its own: each thread writes its own often
+    std::vector<double> splits;
+    std::array<std::vector<Window>, 2> crossed;
+    GeodesicStats stats;  // its pruning time
+  };
+  double band_width_ = 0;  // engine lengths: the wavefront advances by about one edge per band
+  std::unique_ptr<WorkerPool> pool_;
+  std::vector<ThreadScratch> scratch_;
+  std::vector<std::uint32_t> round_;
+  std::vector<RoundCrossing> crossings_;
+  std::vector<RoundJoin> joins_;
+  std::vector<std::uint32_t> join_of_edge_;  // per halfedge: its entry in joins_ this round, or kNone
+  void cross_in_round(std::size_t i, unsigned thread);
+  void join_in_round(std::size_t j, unsigned thread);
 
   // Targets: points inside faces or on edges are listed per face; points at vertices read the vertex.
   std::vector<LocatedPoint> targets_;

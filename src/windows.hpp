@@ -41,6 +41,11 @@ class WindowLists {
     const List& list = lists_[h];
     return {arena_.data() + list.offset, list.size};
   }
+  // The same, writable in place (for joins that fill space reserved with extend).
+  std::span<Window> windows(std::uint32_t h) {
+    const List& list = lists_[h];
+    return {arena_.data() + list.offset, list.size};
+  }
   // Empties h's list, giving its block back for reuse.
   void clear(std::uint32_t h) {
     live_ -= lists_[h].size;
@@ -59,20 +64,6 @@ class WindowLists {
     std::copy_backward(begin, begin + list.size, begin + list.size + windows.size());
     std::copy(windows.begin(), windows.end(), begin);
     grow_live(list, windows.size());
-  }
-
-  // Inserts each window after the last one of h's list that starts no later, found by binary search: an
-  // ordered list stays ordered by start.
-  void insert_ordered(std::uint32_t h, std::span<const Window> windows) {
-    const std::size_t old_size = lists_[h].size;
-    const std::span<Window> list = extend(h, windows.size());
-    auto end = list.begin() + static_cast<std::ptrdiff_t>(old_size);
-    for (const Window& w : windows) {
-      const auto at = std::upper_bound(list.begin(), end, w.b0, [](double b0, const Window& x) { return b0 < x.b0; });
-      std::move_backward(at, end, end + 1);
-      *at = w;
-      ++end;
-    }
   }
 
   // Grows h's list by `added` windows at its end (left for the caller to fill) and returns the whole list,
@@ -134,5 +125,16 @@ class WindowLists {
   std::vector<std::uint32_t> free_blocks_[32];
   std::uint64_t live_ = 0, peak_live_ = 0;
 };
+
+// Order-preserving merge: inserts each of the windows list[old_size, end) after the last window before it
+// that starts no later, found by binary search, so that a list ordered by start stays ordered.
+inline void insert_in_order(std::span<Window> list, std::size_t old_size) {
+  for (auto end = list.begin() + static_cast<std::ptrdiff_t>(old_size); end != list.end(); ++end) {
+    const Window w = *end;  // the next window to place; [begin, end) is ordered
+    const auto at = std::upper_bound(list.begin(), end, w.b0, [](double b0, const Window& x) { return b0 < x.b0; });
+    std::move_backward(at, end, end + 1);
+    *at = w;
+  }
+}
 
 }  // namespace exactgeo::detail

@@ -108,7 +108,7 @@ TEST(VariantAblations, AllVariantsAgree) {
 }
 
 // Order-preserving SecondMerge: windows are inserted by the start of their interval.
-TEST(WindowLists, InsertOrderedKeepsTheListOrderedByStart) {
+TEST(WindowLists, InsertInOrderKeepsTheListOrderedByStart) {
   using exactgeo::detail::Window;
   exactgeo::detail::WindowLists lists;
   lists.reset(2);
@@ -116,7 +116,9 @@ TEST(WindowLists, InsertOrderedKeepsTheListOrderedByStart) {
   const std::vector<Window> existing = {window(0.0, 0), window(1.0, 1), window(2.0, 2)};
   lists.append(1, existing);
   const std::vector<Window> arriving = {window(2.5, 3), window(-1.0, 4), window(1.0, 5), window(1.5, 6)};
-  lists.insert_ordered(1, arriving);
+  const std::span<Window> list = lists.extend(1, arriving.size());
+  std::copy(arriving.begin(), arriving.end(), list.end() - static_cast<std::ptrdiff_t>(arriving.size()));
+  exactgeo::detail::insert_in_order(list, existing.size());
   std::vector<std::uint32_t> tags;
   for (const Window& w : lists.view(1)) tags.push_back(w.pseudo_source);
   // A window starting where another starts goes after it.

@@ -1,0 +1,174 @@
+// Parallel propagation of one run (GeodesicOptions::threads > 1, vertex-sorted variants).
+//
+// The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time, so
+// every step sees the last one's result. Here the wavefront advances by a band instead: every queued vertex
+// within band_width_ of the nearest joins the traversed area, and the lists set moving then cross in rounds.
+// A round crosses all lists scheduled when it starts, each on whichever thread takes it, reading only its
+// own list and the distances as they stood at the round's start; then, in the round's order, what they found
+// at their opposite corners is applied and the spent lists are cleared; then each edge reached by crossed
+// windows joins them to its list (Rules 2 and 3), every edge on one thread, the windows in the round's
+// order. Nothing a thread computes depends on what another thread does or when, so the distances are the
+// same, bit for bit, for any number of threads: only the band (a property of the mesh) shapes the work.
+//
+// Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
+// pruning compares only with lengths of real paths); the order only decides how much is pruned early. A band
+// of about one edge keeps the extra propagations small while giving each round a wavefront's worth of lists.
+#include <algorithm>
+
+#include "phase_timer.hpp"
+#include "vtp_engine.hpp"
+
+namespace exactgeo::detail {
+namespace {
+
+// Width of a band in mean edge lengths.
+constexpr double kBandEdges = 1.0;
+
+}  // namespace
+
+void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
+  if (!pool_ || pool_->threads() != threads) pool_ = std::make_unique<WorkerPool>(threads);
+  scratch_.assign(threads, ThreadScratch{});
+  join_of_edge_.assign(mesh_.halfedges.size(), kNone);
+  double total_length = 0;
+  for (const HalfedgeGeometry& g : mesh_.halfedges) total_length += g.length;
+  band_width_ = kBandEdges * total_length / static_cast<double>(std::max<std::size_t>(1, mesh_.halfedges.size()));
+
+  while (!vertex_queue_.empty()) {
+    update_cutoff();
+    ++stats_.parallel_bands;
+    ++iteration_;  // one iteration per band: all its faces are new to the traversed area
+    const double band_end = vertex_queue_.top_key() + band_width_;
+    do {
+      std::uint32_t v;
+      {
+        const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+        v = vertex_queue_.pop();
+      }
+      enclose_vertex(v);
+    } while (!vertex_queue_.empty() && vertex_queue_.top_key() <= band_end);
+    drain_in_rounds();
+  }
+  for (const ThreadScratch& s : scratch_) stats_.pruning_seconds += s.stats.pruning_seconds;
+}
+
+void VtpEngine::drain_in_rounds() {
+  while (true) {
+    while (!emit_queue_.empty()) emit_lowered_pseudo_source();
+    if (pending_.empty()) return;
+    round_.assign(pending_.begin(), pending_.end());
+    ++stats_.parallel_rounds;
+    stats_.parallel_round_lists += round_.size();
+    pending_.clear();
+    for (std::uint32_t h : round_) scheduled_[h] = 0;
+
+    // 1. Every list crosses its face, in parallel.
+    for (ThreadScratch& s : scratch_)
+      for (std::vector<Window>& crossed : s.crossed) crossed.clear();
+    crossings_.resize(round_.size());
+    {
+      const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
+      pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { cross_in_round(i, thread); });
+    }
+
+    // 2. In the round's order: the distances the lists found at their opposite corners and targets; then the
+    // spent lists are cleared. The crossed windows are grouped by the edge they reach, in order of arrival.
+    joins_.clear();
+    for (std::uint32_t i = 0; i < round_.size(); ++i) {
+      const RoundCrossing& c = crossings_[i];
+      const std::uint32_t h = c.halfedge;
+      const std::span<const Window> incoming = lists_.view(h);
+      if (incoming.empty()) continue;
+      const Window& best = incoming[c.reach.window];
+      relax(mesh_.apex(h), c.reach.distance, Arrival{best.pseudo_source, h, c.reach.separating_point, best.px, best.py});
+      if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
+      const bool prime = face_visited_at_[face_of(h)] == iteration_;
+      (prime ? stats_.prime_propagations : stats_.secondary_propagations) += c.propagations;
+      lists_.clear(h);
+      for (std::uint32_t side = 0; side < 2; ++side) {
+        const std::uint32_t edge = c.handover[side].edge;
+        if (edge == kNone) continue;
+        if (join_of_edge_[edge] == kNone) {
+          join_of_edge_[edge] = static_cast<std::uint32_t>(joins_.size());
+          joins_.push_back({edge, 0, 0, {}});
+        }
+        RoundJoin& entry = joins_[join_of_edge_[edge]];
+        EXACTGEO_ASSERT(entry.deliveries < 2);
+        entry.delivery[entry.deliveries++] = {i, side};
+      }
+    }
+
+    // 3. Each edge reached joins its arrivals, in parallel over the edges; space for them is reserved first,
+    // so that no list moves while the threads work.
+    for (RoundJoin& entry : joins_) {
+      const std::size_t old_size = lists_.view(entry.edge).size();
+      std::size_t size = old_size;
+      for (std::uint32_t k = 0; k < entry.deliveries; ++k) {
+        const RoundCrossing& c = crossings_[entry.delivery[k].crossing];
+        const Handover& to = c.handover[entry.delivery[k].side];
+        if (to.joining != Joining::inside && size > 0) {
+          const bool prime = face_visited_at_[face_of(c.halfedge)] == iteration_;
+          ++(prime ? stats_.prime_merges : stats_.secondary_merges);
+        }
+        size += to.count;
+      }
+      lists_.extend(entry.edge, size - old_size);
+      entry.size = static_cast<std::uint32_t>(old_size);
+    }
+    pool_->run(joins_.size(), [this](std::size_t j, unsigned thread) { join_in_round(j, thread); });
+
+    // 4. The joined lists take their final size; those inside the traversed area move on in the next round.
+    for (const RoundJoin& j : joins_) {
+      join_of_edge_[j.edge] = kNone;
+      lists_.shrink_to(j.edge, j.size);
+      if (j.size > 0 && face_visited_at_[face_of(j.edge)] != kNone) schedule(j.edge);
+    }
+  }
+}
+
+// Round phase 1 for the i-th list of the round: crosses it into this thread's buffers.
+void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
+  ThreadScratch& scratch = scratch_[thread];
+  RoundCrossing& c = crossings_[i];
+  const std::uint32_t h = round_[i];
+  c = RoundCrossing{h, thread, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
+  const std::span<const Window> incoming = lists_.view(h);
+  if (incoming.empty()) return;
+  const FaceFrame frame = face_frame(h);
+  c.reach = reach_apex(incoming, frame, scratch.splits);
+  EXACTGEO_ASSERT(c.reach.window < incoming.size());  // some window reaches C
+  const std::array<std::uint32_t, 2> sides = {prev_halfedge(h), next_halfedge(h)};
+  const std::array<std::uint32_t, 2> origins = {mesh_.tail(h), mesh_.head(h)};
+  // The corner C as the sequential engine sees it, once this list has offered its distance there.
+  const double at_c = std::min(distance_[mesh_.apex(h)], c.reach.distance);
+  for (std::uint32_t side = 0; side < 2; ++side) c.begin[side] = static_cast<std::uint32_t>(scratch.crossed[side].size());
+  c.propagations = cross_face(incoming, scratch.splits, frame, c.reach, options_.rule1,
+                              {distance_[origins[0]], distance_[origins[1]], at_c}, tolerances_, scratch.crossed[0],
+                              scratch.crossed[1]);
+  const bool prime = face_visited_at_[face_of(h)] == iteration_;
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    std::vector<Window>& crossed = scratch.crossed[side];
+    const std::span<Window> windows(crossed.data() + c.begin[side], crossed.size() - c.begin[side]);
+    if (windows.empty()) continue;
+    c.handover[side] = hand_over(sides[side], windows, origins[side], prime);
+    crossed.resize(c.begin[side] + c.handover[side].count);  // the next crossing's windows follow the kept ones
+  }
+}
+
+// Round phase 3 for one edge: its list (extended by the space reserved) joins the round's arrivals in order.
+void VtpEngine::join_in_round(std::size_t j, unsigned thread) {
+  RoundJoin& entry = joins_[j];
+  const std::span<Window> list = lists_.windows(entry.edge);
+  std::size_t size = entry.size;
+  for (std::uint32_t k = 0; k < entry.deliveries; ++k) {
+    const RoundCrossing& c = crossings_[entry.delivery[k].crossing];
+    const std::uint32_t side = entry.delivery[k].side;
+    const std::size_t count = c.handover[side].count;
+    const Window* arriving = scratch_[c.thread].crossed[side].data() + c.begin[side];
+    std::copy(arriving, arriving + count, list.begin() + static_cast<std::ptrdiff_t>(size));
+    size = join(list.first(size + count), count, c.handover[side].joining, scratch_[thread].stats);
+  }
+  entry.size = static_cast<std::uint32_t>(size);
+}
+
+}  // namespace exactgeo::detail

@@ -1,0 +1,158 @@
+// One run on several threads (GeodesicOptions::threads): on generated meshes of many shapes, every feature
+// gives the same answer, bit for bit, with 2, 3 and 8 threads, and agrees with the sequential engine (one
+// thread) to 1e-14 of the largest distance with the same vertices reachable. The oracle tests check the
+// threaded runs against CGAL on the shared meshes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <stop_token>
+#include <thread>
+#include <vector>
+
+#include "exactgeo/exactgeo.hpp"
+#include "test_meshes.hpp"
+
+namespace {
+
+using exactgeo::GeodesicOptions;
+using exactgeo::GeodesicResult;
+using exactgeo::Mesh;
+
+constexpr unsigned kThreadCounts[] = {2, 3, 8};
+constexpr double kAgreement = 1e-14;
+
+// The generated meshes: smooth and noisy height fields (saddles everywhere), a bumpy torus (closed, no
+// boundary), grids with holes (boundary vertices as pseudo-sources) and a fine icosphere.
+std::vector<std::pair<std::string, Mesh>> generated_meshes() {
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  exactgeo_test::Random random(2016);
+  meshes.emplace_back("smooth height field", Mesh(exactgeo_test::random_height_field(random, 24, 24, 0.3, true)));
+  meshes.emplace_back("noisy height field", Mesh(exactgeo_test::random_height_field(random, 20, 20, 0.05, false)));
+  meshes.emplace_back("bumpy torus", Mesh(exactgeo::make_bumpy_torus(48, 24)));
+  meshes.emplace_back("grid with holes", Mesh(exactgeo_test::random_grid_with_holes(random, 24, 20, 4)));
+  meshes.emplace_back("icosphere", Mesh(exactgeo::make_icosphere(4)));
+  return meshes;
+}
+
+GeodesicOptions with_threads(GeodesicOptions options, unsigned threads) {
+  options.threads = threads;
+  return options;
+}
+
+// Threaded results equal each other exactly and the sequential one to kAgreement, reachability included.
+void expect_same_for_every_thread_count(const std::string& what,
+                                        const std::function<GeodesicResult(const GeodesicOptions&)>& run,
+                                        const GeodesicOptions& options = {}) {
+  const GeodesicResult sequential = run(with_threads(options, 1));
+  const GeodesicResult first = run(with_threads(options, kThreadCounts[0]));
+  EXPECT_TRUE(exactgeo_test::distances_match(first.distances, sequential.distances, kAgreement)) << what;
+  EXPECT_TRUE(exactgeo_test::distances_match(first.target_distances, sequential.target_distances, kAgreement)) << what;
+  EXPECT_EQ(first.nearest_source, sequential.nearest_source) << what;
+  for (unsigned threads : kThreadCounts) {
+    const GeodesicResult again = run(with_threads(options, threads));
+    EXPECT_EQ(again.distances, first.distances) << what << ", " << threads << " threads";
+    EXPECT_EQ(again.target_distances, first.target_distances) << what << ", " << threads << " threads";
+    EXPECT_EQ(again.nearest_source, first.nearest_source) << what << ", " << threads << " threads";
+    EXPECT_EQ(again.stats.window_propagations, first.stats.window_propagations) << what << ", " << threads << " threads";
+  }
+}
+
+TEST(Threads, EveryVariantGivesTheSameDistancesOnEveryThreadCount) {
+  for (const auto& [name, mesh] : generated_meshes())
+    for (const GeodesicOptions& variant : exactgeo_test::kAllVariants)
+      expect_same_for_every_thread_count(name + ", " + exactgeo_test::variant_label(variant),
+                                         [&](const GeodesicOptions& o) { return exactgeo::geodesic_distance(mesh, 0, o); },
+                                         variant);
+}
+
+TEST(Threads, SeveralSourcesLabelsAndPointSources) {
+  for (const auto& [name, mesh] : generated_meshes()) {
+    const auto n = static_cast<std::uint32_t>(mesh.vertex_count());
+    const std::vector<std::uint32_t> vertices = {0, n / 2, n - 1};
+    expect_same_for_every_thread_count(name + ", three source vertices", [&](const GeodesicOptions& o) {
+      return exactgeo::geodesic_distance(mesh, vertices, o);
+    });
+    const std::vector<exactgeo::SurfacePoint> points = {{.face = 0, .barycentric = {0.2, 0.3, 0.5}},
+                                                        {.face = static_cast<std::uint32_t>(mesh.face_count() / 3), .barycentric = {0.5, 0.5, 0}}};
+    expect_same_for_every_thread_count(name + ", a face point and an edge point", [&](const GeodesicOptions& o) {
+      return exactgeo::geodesic_distance(mesh, points, o);
+    });
+  }
+}
+
+TEST(Threads, CutOffsAndTargets) {
+  for (const auto& [name, mesh] : generated_meshes()) {
+    const double radius = exactgeo_test::max_finite(exactgeo::geodesic_distance(mesh, 0).distances) / 3;
+    expect_same_for_every_thread_count(name + ", cut-off", [&](const GeodesicOptions& o) {
+      return exactgeo::geodesic_distance(mesh, 0, o);
+    }, {.max_distance = radius});
+    const std::vector<exactgeo::SurfacePoint> targets = {{.face = static_cast<std::uint32_t>(mesh.face_count() / 2), .barycentric = {0.1, 0.1, 0.8}},
+                                                         {.face = static_cast<std::uint32_t>(mesh.face_count() / 4), .barycentric = {0, 1, 0}}};
+    expect_same_for_every_thread_count(name + ", targets", [&](const GeodesicOptions& o) {
+      exactgeo::GeodesicSolver solver(mesh);
+      const std::uint32_t source = 0;
+      return solver.solve(std::span(&source, 1), targets, o);
+    });
+  }
+}
+
+TEST(Threads, PathsHaveTheLengthOfTheirDistance) {
+  for (const auto& [name, mesh] : generated_meshes()) {
+    exactgeo::GeodesicSolver solver(mesh);
+    const std::uint32_t source = 0;
+    const GeodesicResult& result = solver.solve(std::span(&source, 1), {}, {.threads = 3});
+    const double largest = exactgeo_test::max_finite(result.distances);
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); v += 7) {
+      const exactgeo::GeodesicPath path = solver.path_to_vertex(v);
+      if (std::isinf(result.distances[v])) continue;
+      EXPECT_NEAR(path.length, result.distances[v], 1e-9 * largest) << name << ", vertex " << v;
+    }
+  }
+}
+
+TEST(Threads, ProgressIsReportedAndAStopEndsTheRun) {
+  const Mesh mesh(exactgeo::make_bumpy_torus(192, 96));  // enough vertices for several checkpoints
+  exactgeo::GeodesicSolver solver(mesh);
+  std::vector<double> fractions;
+  solver.set_progress([&](double f) { fractions.push_back(f); });
+  const std::uint32_t source = 0;
+  solver.solve(std::span(&source, 1), {}, {.threads = 2});
+  ASSERT_FALSE(fractions.empty());
+  for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_LE(fractions[i - 1], fractions[i]);
+
+  std::stop_source stop;
+  stop.request_stop();
+  try {
+    solver.solve(std::span(&source, 1), {}, {.threads = 2, .stop = stop.get_token()});
+    ADD_FAILURE() << "the run was not stopped";
+  } catch (const exactgeo::Error& e) {
+    EXPECT_EQ(e.code(), exactgeo::ErrorCode::cancelled) << e.what();
+  }
+  // The solver, and its threads, stay usable.
+  EXPECT_EQ(solver.solve(std::span(&source, 1), {}, {.threads = 2}).distances,
+            exactgeo::geodesic_distance(mesh, 0, {.threads = 3}).distances);
+}
+
+TEST(Threads, ZeroMeansOnePerCoreAndAbsurdCountsAreRefused) {
+  const Mesh mesh(exactgeo::make_bumpy_torus(32, 16));
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  EXPECT_EQ(exactgeo::geodesic_distance(mesh, 0, {.threads = 0}).distances,
+            exactgeo::geodesic_distance(mesh, 0, {.threads = cores}).distances);
+  try {
+    exactgeo::geodesic_distance(mesh, 0, {.threads = 100000});
+    ADD_FAILURE() << "100000 threads were accepted";
+  } catch (const exactgeo::Error& e) {
+    EXPECT_EQ(e.code(), exactgeo::ErrorCode::invalid_argument);
+    EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Threads, TheRecommendationUsesEveryCoreOnlyOnLargeMeshes) {
+  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(1))), 1u);
+  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(7))),
+            std::max(1u, std::thread::hardware_concurrency()));
+}
+
+}  // namespace
