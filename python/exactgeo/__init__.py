@@ -13,6 +13,7 @@ cannot be read raise OSError. See docs/python.md in the repository for a guide.
 from ._core import GeodesicStats, MeshReport
 from ._core import version as __version__
 from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResult, GeodesicSolver, distance, path
+from ._isolines import isolines
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
 from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
@@ -35,6 +36,7 @@ __all__ = [
     "distance_matrix",
     "edge_point",
     "farthest_point_sampling",
+    "isolines",
     "make_bumpy_torus",
     "make_grid",
     "make_icosphere",
