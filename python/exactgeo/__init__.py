@@ -16,6 +16,7 @@ from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResul
 from ._isolines import isolines
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
+from ._pictures import plot, save_ply
 from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
 from ._surface_point import SurfacePoint, SurfacePoints, edge_point, point_position, vertex_point
 
@@ -41,7 +42,9 @@ __all__ = [
     "make_grid",
     "make_icosphere",
     "path",
+    "plot",
     "point_position",
+    "save_ply",
     "subdivide_midpoint",
     "vertex_point",
 ]
