@@ -37,7 +37,7 @@ def isolines(mesh: Mesh, values: Any, levels: Any) -> list[list[np.ndarray]]:
     field = _per_vertex(values, surface)
     level_list = np.atleast_1d(np.asarray(levels, dtype=np.float64))
     if level_list.ndim != 1:
-        raise ValueError(f"levels must be a number or a 1-D sequence of numbers, not an array of shape {level_list.shape}")
+        raise ValueError(f"levels must be a number or a 1-D sequence of numbers, not shape {level_list.shape}")
     faces = surface.faces.astype(np.int64)
     corner_values = field[faces]
     usable = np.isfinite(corner_values).all(axis=1)
@@ -52,11 +52,15 @@ def _per_vertex(values: Any, mesh: Mesh) -> np.ndarray:
         raise ValueError(f"values must be numbers, not dtype {array.dtype}")
     if array.ndim != 1 or len(array) != mesh.vertex_count:
         size = f"{len(array)} values" if array.ndim == 1 else f"an array of shape {array.shape}"
-        raise ValueError(f"values must have one number per vertex: got {size}, but the mesh has {mesh.vertex_count} vertices")
+        raise ValueError(
+            f"values must have one number per vertex: got {size}, but the mesh has {mesh.vertex_count} vertices"
+        )
     return array.astype(np.float64)
 
 
-def _level_curves(positions: np.ndarray, faces: np.ndarray, corner_values: np.ndarray, level: float) -> list[np.ndarray]:
+def _level_curves(
+    positions: np.ndarray, faces: np.ndarray, corner_values: np.ndarray, level: float
+) -> list[np.ndarray]:
     above = corner_values >= level
     crossing = above.any(axis=1) & ~above.all(axis=1)
     faces, corner_values, above = faces[crossing], corner_values[crossing], above[crossing]
@@ -70,8 +74,9 @@ def _level_curves(positions: np.ndarray, faces: np.ndarray, corner_values: np.nd
     first_above = above[face_of, ends[edge_of, 0]]
     low = np.where(first_above, second, first)
     high = np.where(first_above, first, second)
-    low_value = np.where(first_above, corner_values[face_of, ends[edge_of, 1]], corner_values[face_of, ends[edge_of, 0]])
-    high_value = np.where(first_above, corner_values[face_of, ends[edge_of, 0]], corner_values[face_of, ends[edge_of, 1]])
+    first_value, second_value = corner_values[face_of, ends[edge_of, 0]], corner_values[face_of, ends[edge_of, 1]]
+    low_value = np.where(first_above, second_value, first_value)
+    high_value = np.where(first_above, first_value, second_value)
     # A point exactly at a vertex is named by the vertex, so that every edge meeting there gives the same
     # point; any other by its edge (both faces of the edge give the same key).
     at_vertex = high_value == level

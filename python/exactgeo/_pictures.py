@@ -92,7 +92,7 @@ def save_ply(
     colours = vertex_colours(field, cmap, vmin, vmax)
     vertex = np.empty(
         surface.vertex_count,
-        dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("value", "<f8"), ("red", "u1"), ("green", "u1"), ("blue", "u1")],
+        dtype=[(c, "<f4") for c in "xyz"] + [("value", "<f8")] + [(c, "u1") for c in ("red", "green", "blue")],
     )
     vertex["x"], vertex["y"], vertex["z"] = surface.vertices.T
     vertex["value"] = field
@@ -150,7 +150,9 @@ def plot(
         from matplotlib.figure import Figure
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
     except ImportError:
-        raise ImportError("exactgeo.plot needs matplotlib: pip install exactgeo[plot] (or pip install matplotlib)") from None
+        raise ImportError(
+            "exactgeo.plot needs matplotlib: pip install exactgeo[plot] (or pip install matplotlib)"
+        ) from None
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
     low, high = _limits(field, vmin, vmax)

@@ -79,7 +79,8 @@ def test_save_ply_layout_values_and_colours(tmp_path, grid_with_inf):
 
 def test_save_ply_range_name_and_colour_map(tmp_path, grid_with_inf):
     mesh, d = grid_with_inf
-    exactgeo.save_ply(tmp_path / "v.ply", mesh, d, vmin=0.5, vmax=1.0, value_name="value", cmap=lambda t: np.column_stack([t, t, t]))
+    grey_ramp = lambda t: np.column_stack([t, t, t])  # noqa: E731
+    exactgeo.save_ply(tmp_path / "v.ply", mesh, d, vmin=0.5, vmax=1.0, value_name="value", cmap=grey_ramp)
     header, vertices, _ = read_ply(tmp_path / "v.ply")
     assert "property double value" in header
     grey = vertices["red"]
