@@ -87,6 +87,17 @@ def test_vertices_exactly_at_a_level_give_no_degenerate_or_doubled_segments():
     assert exactgeo.isolines(mesh, x, [0.0]) == [[]]  # everything is at or above the level
 
 
+def test_a_saddle_exactly_at_the_level_splits_the_curves_where_they_cross():
+    vertices, faces = exactgeo.make_grid(4, 4, 4.0, 4.0)
+    vertices[:, :2] -= 2  # the saddle x * y has its level set 0, the two axes, through the middle vertex
+    mesh = exactgeo.Mesh(vertices, faces)
+    curves = exactgeo.isolines(mesh, vertices[:, 0] * vertices[:, 1], [0.0])[0]
+    assert len(curves) == 4  # four pieces from the middle to the sides
+    for line in curves:
+        assert len(line) == 3 and (line[:, 0] == 0).all() != (line[:, 1] == 0).all()
+        assert [0, 0, 0] in line.tolist()
+
+
 def test_faces_with_inf_are_left_out():
     vertices, faces = exactgeo.make_grid(10, 10, 1.0, 1.0)
     mesh = exactgeo.Mesh(vertices, faces)
