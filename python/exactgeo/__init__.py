@@ -13,8 +13,10 @@ cannot be read raise OSError. See docs/python.md in the repository for a guide.
 from ._core import GeodesicStats, MeshReport
 from ._core import version as __version__
 from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResult, GeodesicSolver, distance, path
+from ._isolines import isolines
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
+from ._pictures import plot, save_ply
 from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
 from ._surface_point import SurfacePoint, SurfacePoints, edge_point, point_position, vertex_point
 
@@ -35,11 +37,14 @@ __all__ = [
     "distance_matrix",
     "edge_point",
     "farthest_point_sampling",
+    "isolines",
     "make_bumpy_torus",
     "make_grid",
     "make_icosphere",
     "path",
+    "plot",
     "point_position",
+    "save_ply",
     "subdivide_midpoint",
     "vertex_point",
 ]

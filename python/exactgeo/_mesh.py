@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import os
+from typing import Any
 
 import numpy as np
 
-from . import _core, _inputs
+from . import _core, _inputs, _mesh_libraries
 
 
 class Mesh:
@@ -46,6 +47,53 @@ class Mesh:
         mesh._core = _core.load_mesh(os.fspath(path), bool(weld_duplicate_positions))
         mesh._weld = bool(weld_duplicate_positions)
         return mesh
+
+    @classmethod
+    def from_trimesh(cls, mesh: Any, *, weld_duplicate_positions: bool = False) -> Mesh:
+        """A trimesh.Trimesh's vertices and faces.
+
+        trimesh splits vertices at texture and normal seams when it loads a file (spot.obj, any textured
+        OBJ): distances then stop at the seams, which exactgeo.distance warns about;
+        `weld_duplicate_positions=True` joins them again. A trimesh.Scene raises TypeError naming
+        trimesh.load(path, force="mesh").
+        """
+        return cls._of(_mesh_libraries.from_trimesh(mesh), weld_duplicate_positions)
+
+    @classmethod
+    def from_meshio(cls, mesh: Any, *, weld_duplicate_positions: bool = False) -> Mesh:
+        """A meshio.Mesh's points and its triangle, quad and polygon cell blocks (polygons fan-triangulated;
+        face numbers count the triangles block after block). Lines, vertices, volume and higher-order cells
+        are left out; ValueError naming the cell types found if no block is usable. 2-D points get z = 0.
+        """
+        return cls._of(_mesh_libraries.from_meshio(mesh), weld_duplicate_positions)
+
+    @classmethod
+    def from_pyvista(cls, mesh: Any, *, weld_duplicate_positions: bool = False) -> Mesh:
+        """A pyvista.PolyData's points and polygons (its packed faces array, fan-triangulated); an
+        UnstructuredGrid or another dataset is reduced to its outer surface with extract_surface() first.
+        Lines, vertices and triangle strips are left out (mesh.triangulate() turns strips into triangles).
+        """
+        return cls._of(_mesh_libraries.from_pyvista(mesh), weld_duplicate_positions)
+
+    @classmethod
+    def from_open3d(cls, mesh: Any, *, weld_duplicate_positions: bool = False) -> Mesh:
+        """An open3d.geometry.TriangleMesh's vertices and triangles."""
+        return cls._of(_mesh_libraries.from_open3d(mesh), weld_duplicate_positions)
+
+    @classmethod
+    def from_any(cls, mesh: Any, *, weld_duplicate_positions: bool = False) -> Mesh:
+        """A mesh of any of the libraries above, told apart by its attributes (none of them is imported), an
+        exactgeo.Mesh (itself, or rebuilt if `weld_duplicate_positions` differs) or a (vertices, faces) pair.
+        Anything else raises TypeError naming its type and what is accepted."""
+        if isinstance(mesh, Mesh):
+            if mesh._weld == bool(weld_duplicate_positions):
+                return mesh
+            return cls(np.array(mesh.vertices), np.array(mesh.faces), weld_duplicate_positions=weld_duplicate_positions)
+        return cls._of(_mesh_libraries.vertices_and_faces(mesh), weld_duplicate_positions)
+
+    @classmethod
+    def _of(cls, arrays: tuple[Any, Any], weld_duplicate_positions: bool) -> Mesh:
+        return cls(arrays[0], arrays[1], weld_duplicate_positions=weld_duplicate_positions)
 
     def __reduce__(self) -> tuple[object, tuple[object, ...]]:
         # The input arrays (a file's polygons already fanned into them) rebuild the same mesh.

@@ -29,3 +29,15 @@ def test_every_algorithm_name_runs():
     mesh = exactgeo.Mesh(*exactgeo.make_grid(2, 2, 1.0, 1.0))
     for name in exactgeo.ALGORITHMS:
         assert exactgeo.distance(mesh, 0, algorithm=name)[8] > 0
+
+
+def test_every_public_name_is_in_the_guide():
+    import re
+
+    from conftest import REPOSITORY
+
+    guide = (REPOSITORY / "docs" / "python.md").read_text()
+    names = set(exactgeo.__all__) - {"AlgorithmOptions", "__version__"}  # a typing aid; the version
+    names |= {name for name in vars(exactgeo.Mesh) if name.startswith(("from_", "load"))}
+    missing = sorted(name for name in names if not re.search(rf"\b{re.escape(name)}\b", guide))
+    assert not missing, f"not in docs/python.md: {missing}"
