@@ -40,9 +40,9 @@ wheel: deps
 	PATH=$(abspath $(WHEEL_TOOLS))/bin:$$PATH $(WHEEL_TOOLS)/bin/auditwheel repair --plat $(WHEEL_PLAT) -w $(WHEEL_DIR) $(BUILD_DIR)/wheel-raw/exactgeo-*.whl
 
 # The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
-# runs the Python tests and the command there (python/tests/wheel/test_wheel.py).
+# runs the Python tests and the command there (tests/package/test_wheel.py).
 test-wheel: wheel
-	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q python/tests/wheel
+	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package/test_wheel.py
 
 # Exact distances on the built-in bumpy torus from vertex 0, with a summary.
 demo: build
@@ -54,6 +54,7 @@ test: build python
 	python3 -m pip install -q -r bench/requirements-test.txt
 	python3 -m pytest -q bench
 	EXACTGEO_BUILD_DIR=$(BUILD_DIR) python3 -m pytest -q python/tests
+	$(MAKE) test-wheel
 
 # The engine's unit tests (exactgeo_tests) under AddressSanitizer and UndefinedBehaviorSanitizer with the
 # invariant checks (EXACTGEO_ASSERT) on, and the mesh readers fuzzed for a few seconds from
