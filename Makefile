@@ -40,9 +40,10 @@ wheel: deps
 	PATH=$(abspath $(WHEEL_TOOLS))/bin:$$PATH $(WHEEL_TOOLS)/bin/auditwheel repair --plat $(WHEEL_PLAT) -w $(WHEEL_DIR) $(BUILD_DIR)/wheel-raw/exactgeo-*.whl
 
 # The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
-# runs the Python tests and the command there (tests/package/test_wheel.py).
+# runs the Python tests and the command there (tests/package/test_wheel.py); and a source build without a
+# compiler says what to install (tests/package/test_no_compiler.py).
 test-wheel: wheel
-	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package/test_wheel.py
+	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package
 
 # Exact distances on the built-in bumpy torus from vertex 0, with a summary.
 demo: build
