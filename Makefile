@@ -18,10 +18,11 @@ build: deps
 
 # The Python package, installed into python3's environment with its test requirements. Compiled in
 # $(BUILD_DIR)/pip and kept there, so a second run recompiles only what changed (hence no build isolation,
-# whose temporary environment would differ each time).
+# whose temporary environment would differ each time). The tests use the command from $(BUILD_DIR)/cli, so it
+# is not built a second time here (`make wheel` and a plain `pip install .` include it).
 python: deps
 	python3 -m pip install -q -r python/requirements-test.txt
-	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip .
+	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip -Ccmake.define.EXACTGEO_BUILD_CLI=OFF .
 
 # A wheel for PyPI in $(WHEEL_DIR): built in an isolated environment (scikit-build-core, nanobind, CMake and
 # Ninja from PyPI) with the exactgeo command in its scripts, then repaired by auditwheel to $(WHEEL_PLAT), the

@@ -129,12 +129,12 @@ def cpp_program(blocks: list[Block], document: Path) -> list[str]:
 
 
 def run_cpp(blocks: list[Block], document: Path, workdir: Path) -> None:
-    compiler = os.environ.get("CXX") or shutil.which("c++")
     lib = library()
-    if not compiler or not shutil.which(compiler):
-        pytest.skip("no C++ compiler to build the C++ examples with")
     if not lib:
         pytest.skip(f"the library is not built in {BUILD_DIR} (make build)")
+    compiler = os.environ.get("CXX") or shutil.which("c++")
+    if not compiler or not shutil.which(compiler):
+        pytest.skip("no C++ compiler to build the C++ examples with")
     for k, source in enumerate(cpp_program(blocks, document)):
         path = workdir / f"example{k}.cpp"
         path.write_text(source)
