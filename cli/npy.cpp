@@ -1,11 +1,11 @@
 #include "npy.hpp"
 
-#include <zip.h>
-
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <utility>
 
 #include "exactgeo/error.hpp"
@@ -100,47 +100,152 @@ std::FILE* GrowingNpy::finish() {
   return std::exchange(file_, nullptr);
 }
 
+namespace {
+
+// The zip format's CRC-32 (reflected polynomial 0xEDB88320), one byte at a time through a table.
+class Crc32 {
+ public:
+  void update(std::span<const unsigned char> bytes) {
+    static const auto table = [] {
+      std::array<std::uint32_t, 256> t{};
+      for (std::uint32_t i = 0; i < 256; ++i) {
+        std::uint32_t c = i;
+        for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+        t[i] = c;
+      }
+      return t;
+    }();
+    for (const unsigned char b : bytes) value_ = table[(value_ ^ b) & 0xff] ^ (value_ >> 8);
+  }
+  std::uint32_t value() const { return value_ ^ 0xFFFFFFFFu; }
+
+ private:
+  std::uint32_t value_ = 0xFFFFFFFFu;
+};
+
+// Little-endian fields of the zip records.
+class Record {
+ public:
+  Record& u16(std::uint64_t v) { return put(v, 2); }
+  Record& u32(std::uint64_t v) { return put(v, 4); }
+  Record& u64(std::uint64_t v) { return put(v, 8); }
+  Record& text(std::string_view s) {
+    bytes_.insert(bytes_.end(), s.begin(), s.end());
+    return *this;
+  }
+  Record& append(const Record& other) {
+    bytes_.insert(bytes_.end(), other.bytes_.begin(), other.bytes_.end());
+    return *this;
+  }
+  const std::vector<unsigned char>& bytes() const { return bytes_; }
+
+ private:
+  Record& put(std::uint64_t v, int n) {
+    for (int i = 0; i < n; ++i) bytes_.push_back(static_cast<unsigned char>(v >> (8 * i)));
+    return *this;
+  }
+  std::vector<unsigned char> bytes_;
+};
+
+constexpr std::uint64_t kZip32Limit = 0xFFFFFFFFu;  // sizes and offsets from here on need ZIP64 fields
+constexpr std::uint16_t kUtf8Names = 0x0800;
+constexpr std::uint16_t kDosDate = 0x21;  // 1980-01-01, the earliest a zip can say: archives are reproducible
+
+// Each member's file is closed once written, or if the archive is abandoned.
+struct MemberFiles {
+  std::vector<std::FILE*> files;
+  ~MemberFiles() {
+    for (std::FILE* f : files)
+      if (f) std::fclose(f);
+  }
+};
+
+}  // namespace
+
+// A stored (uncompressed) zip, as numpy.savez writes: each member's local header (with its size and CRC,
+// computed first, so no data descriptors), its bytes, then the central directory; ZIP64 fields where a size,
+// an offset or the count does not fit in the classic ones (numpy's reader, Python's zipfile, reads them).
 void write_npz(const std::string& path, std::span<const NpzMember> members) {
-  int error = 0;
-  zip_t* archive = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+  MemberFiles member_files;
+  for (const NpzMember& member : members) member_files.files.push_back(member.npy_file);
   const auto fail = [&](const std::string& why) {
     throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot write '" + path + "': " + why);
   };
-  if (!archive) {
-    zip_error_t reason;
-    zip_error_init_with_code(&reason, error);
-    const std::string text = zip_error_strerror(&reason);
-    zip_error_fini(&reason);
-    fail(text);
-  }
-  // libzip reads the sources when the archive is closed: keep every member's bytes alive until then.
-  std::vector<std::vector<unsigned char>> contents;
-  contents.reserve(members.size());
-  for (const NpzMember& member : members) {
-    zip_source_t* source = nullptr;
-    if (member.npy_file) {
-      source = zip_source_filep(archive, member.npy_file, 0, -1);  // closes the file when done with it
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(path.c_str(), "wb"), &std::fclose);
+  if (!out) fail(std::strerror(errno));
+  std::uint64_t offset = 0;
+  const auto write = [&](std::span<const unsigned char> bytes) {
+    if (std::fwrite(bytes.data(), 1, bytes.size(), out.get()) != bytes.size()) fail(std::strerror(errno));
+    offset += bytes.size();
+  };
+  Record directory;
+  std::vector<unsigned char> chunk(1 << 20);
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    const NpzMember& member = members[m];
+    const std::string name = member.name + ".npy";
+    std::vector<unsigned char> content;
+    std::FILE* in = member.npy_file;
+    Crc32 crc;
+    std::uint64_t size = 0;
+    if (in) {  // first pass: size and CRC
+      std::rewind(in);
+      for (std::size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), in)) > 0; size += n)
+        crc.update(std::span(chunk.data(), n));
+      if (std::ferror(in)) fail(std::strerror(errno));
+      std::rewind(in);
     } else {
       const std::string header = npy_header(member.descr, member.shape);
-      std::vector<unsigned char>& content = contents.emplace_back(header.begin(), header.end());
+      content.assign(header.begin(), header.end());
       content.insert(content.end(), member.data.begin(), member.data.end());
-      source = zip_source_buffer(archive, content.data(), content.size(), 0);
+      crc.update(content);
+      size = content.size();
     }
-    const zip_int64_t index =
-        source ? zip_file_add(archive, (member.name + ".npy").c_str(), source, ZIP_FL_ENC_UTF_8) : -1;
-    if (index < 0) {
-      if (source) zip_source_free(source);
-      const std::string text = zip_strerror(archive);
-      zip_discard(archive);
-      fail(text);
+    const std::uint64_t local_offset = offset;
+    const bool zip64_size = size >= kZip32Limit;
+    const bool zip64_offset = local_offset >= kZip32Limit;
+    const std::uint16_t version = (zip64_size || zip64_offset) ? 45 : 20;
+    Record local;
+    local.u32(0x04034b50).u16(version).u16(kUtf8Names).u16(0).u16(0).u16(kDosDate).u32(crc.value());
+    local.u32(zip64_size ? kZip32Limit : size).u32(zip64_size ? kZip32Limit : size);
+    local.u16(name.size()).u16(zip64_size ? 20 : 0).text(name);
+    if (zip64_size) local.u16(0x0001).u16(16).u64(size).u64(size);
+    write(local.bytes());
+    if (in) {
+      for (std::size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), in)) > 0;) write(std::span(chunk.data(), n));
+      if (std::ferror(in)) fail(std::strerror(errno));
+      std::fclose(in);
+      member_files.files[m] = nullptr;
+    } else {
+      write(content);
     }
-    zip_set_file_compression(archive, static_cast<zip_uint64_t>(index), ZIP_CM_STORE, 0);
+    Record extra;
+    if (zip64_size) extra.u64(size).u64(size);
+    if (zip64_offset) extra.u64(local_offset);
+    Record entry;
+    entry.u32(0x02014b50).u16(version).u16(version).u16(kUtf8Names).u16(0).u16(0).u16(kDosDate).u32(crc.value());
+    entry.u32(zip64_size ? kZip32Limit : size).u32(zip64_size ? kZip32Limit : size);
+    const std::size_t extra_size = extra.bytes().size();
+    entry.u16(name.size()).u16(extra_size ? extra_size + 4 : 0).u16(0).u16(0).u16(0).u32(0);
+    entry.u32(zip64_offset ? kZip32Limit : local_offset).text(name);
+    if (extra_size) entry.u16(0x0001).u16(extra_size).append(extra);
+    directory.append(entry);
   }
-  if (zip_close(archive) != 0) {
-    const std::string text = zip_strerror(archive);
-    zip_discard(archive);
-    fail(text);
+  const std::uint64_t directory_offset = offset;
+  const std::uint64_t directory_size = directory.bytes().size();
+  write(directory.bytes());
+  const std::uint64_t count = members.size();
+  const bool zip64_end = directory_offset >= kZip32Limit || directory_size >= kZip32Limit || count >= 0xFFFF;
+  Record end;
+  if (zip64_end) {
+    const std::uint64_t zip64_end_offset = offset;
+    end.u32(0x06064b50).u64(44).u16(45).u16(45).u32(0).u32(0).u64(count).u64(count);
+    end.u64(directory_size).u64(directory_offset);
+    end.u32(0x07064b50).u32(0).u64(zip64_end_offset).u32(1);
   }
+  end.u32(0x06054b50).u16(0).u16(0).u16(zip64_end ? 0xFFFF : count).u16(zip64_end ? 0xFFFF : count);
+  end.u32(zip64_end ? kZip32Limit : directory_size).u32(zip64_end ? kZip32Limit : directory_offset).u16(0);
+  write(end.bytes());
+  if (std::fflush(out.get()) != 0 || std::ferror(out.get())) fail(std::strerror(errno));
 }
 
 }  // namespace exactgeo::cli

@@ -1,5 +1,5 @@
 // NumPy's file formats: .npy (one array: a short text header, then the raw data) and .npz (a zip of .npy
-// files, written with libzip), which numpy.load and scipy.sparse.load_npz read.
+// files, written here: stored, as numpy.savez does), which numpy.load and scipy.sparse.load_npz read.
 #pragma once
 
 #include <cstdint>
@@ -50,7 +50,7 @@ struct NpzMember {
   std::string descr;
   std::vector<std::size_t> shape;
   std::vector<unsigned char> data;
-  std::FILE* npy_file = nullptr;  // if set, the whole .npy (descr, shape and data unused); the archive closes it
+  std::FILE* npy_file = nullptr;  // if set, the whole .npy (descr, shape and data unused); write_npz closes it
 };
 
 // A zip archive of the members, uncompressed, as numpy.savez writes them. Throws exactgeo::Error(io_error)

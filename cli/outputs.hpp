@@ -76,7 +76,7 @@ class OutputFile {
   OutputFile& operator=(const OutputFile&) = delete;
 
   std::FILE* stream();  // the temporary file, opened on first use
-  // For writers that open the file themselves (libzip): write here, then commit().
+  // For writers that open the file themselves (the .npz archive): write here, then commit().
   const std::string& temporary_path() const { return temporary_; }
   void commit();
 

@@ -3,7 +3,7 @@
 set -euo pipefail
 # clang and its runtime libraries (libFuzzer, the sanitizers) build the sanitizer and fuzzer tests (make test-asan).
 packages=(g++ cmake ninja-build libcgal-dev libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev
-          libzip-dev pkg-config clang libclang-rt-14-dev)
+          clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
