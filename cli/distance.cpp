@@ -205,14 +205,14 @@ Command add_distance_command(CLI::App& app) {
                   "Targets, as files or lists: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
                   "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
                   "exact up to the farthest target and inf beyond")
-      ->type_name("FILE|LIST ...");
+      ->type_name("FILE|LIST");
   command
       ->add_option("--targets-beyond", a.targets_beyond,
                    "What targets farther than --max-distance get: inf (default; the run stops at the cut-off) or "
                    "exact (the run goes on until every target is final, as gdist and pygeodesic answer; the cut-off "
                    "then applies to vertex distances only)")
       ->check(CLI::IsMember({"inf", "exact"}))
-      ->type_name("inf|exact");
+      ->type_name("WHAT");
   command->add_flag("--labels", a.labels,
                     "Add the nearest source (index in the order given, vertices first; -1 if none) to each output row");
   add_output_option(*command, "--out", a.out,

@@ -54,11 +54,11 @@ exactgeo::Error invalid_argument(const std::string& message) {
 void add_source_options(CLI::App& command, MeshArguments& mesh, SourceArguments& sources) {
   CLI::Option* vertices = add_list_option(command, mesh, "--source", sources.vertices,
                                           "Source vertex indices (--source 0 911, or repeated)")
-                              ->type_name("I ...");
+                              ->type_name("I");
   CLI::Option* points = add_list_option(command, mesh, "--source-point", sources.points,
                                         "Source points on input triangle F with barycentric weights b0,b1,b2 "
                                         "(several, or repeated; numbered after the --source vertices)")
-                            ->type_name("F:b0,b1,b2 ...");
+                            ->type_name("F:b0,b1,b2");
   // Syntax only, once MESH has been taken back from the lists; whether a vertex exists is up to the mesh.
   mesh.checks.push_back([&command, &sources, vertices, points] {
     if (sources.vertices.empty() && sources.points.empty())

@@ -55,11 +55,11 @@ Command add_matrix_command(CLI::App& app) {
                   "Source vertices (the rows), as files or lists, separated by spaces, newlines, ',' or ';', or a CSV "
                   "file with a vertex column (as sample --out s.csv writes)")
       ->required()
-      ->type_name("FILE|LIST ...");
+      ->type_name("FILE|LIST");
   add_list_option(*command, arguments->mesh, "--targets", arguments->targets,
                   "Target vertices (the columns, in their order; default every vertex), in the same forms; each "
                   "run stops once they are final")
-      ->type_name("FILE|LIST ...");
+      ->type_name("FILE|LIST");
   command->add_option("--max-distance", arguments->max_distance,
                       "Cut-off: entries beyond it are inf (or left out), targets too (leave it out to have every "
                       "target's distance)")
