@@ -83,6 +83,35 @@ TEST(DistanceMatrix, TargetColumnsAreTheFullMatrixColumns) {
   }
 }
 
+// Two grids touching at one corner: the mesh splits that vertex into two copies. A target there reads the
+// nearer copy, as the full matrix's column does.
+TEST(DistanceMatrix, TargetColumnsAtASplitVertexAreTheFullMatrixColumns) {
+  exactgeo::MeshSoup soup = exactgeo::make_grid(3, 3, 3, 3);
+  const std::uint32_t pinch = exactgeo_test::vertex_at(soup, {3, 3, 0});
+  const exactgeo::MeshSoup other = exactgeo::make_grid(3, 3, 3, 3);
+  std::vector<std::uint32_t> index(exactgeo_test::vertex_count(other));
+  for (std::uint32_t v = 0; v < index.size(); ++v) {
+    const exactgeo_test::Vec3 p = exactgeo_test::vertex_position(other, v);
+    index[v] = v == 0 ? pinch : exactgeo_test::add_vertex(soup, {p[0] + 3, p[1] + 3, p[2] + 0.5 * p[0]});
+  }
+  for (std::size_t f = 0; f < exactgeo_test::face_count(other); ++f)
+    exactgeo_test::add_triangle(soup, index[other.triangles[3 * f]], index[other.triangles[3 * f + 1]],
+                                index[other.triangles[3 * f + 2]]);
+  const Mesh mesh(soup);
+  ASSERT_EQ(mesh.report().non_manifold_vertices, 1u);
+  const std::vector<std::uint32_t> sources = {0, pinch, index[5], 7};
+  const std::vector<std::uint32_t> targets = {pinch, index[15], 2, index[3]};
+  const std::vector<double> full = exactgeo::distance_matrix(mesh, sources);
+  MatrixOptions options;
+  options.target_vertices = targets;
+  const std::vector<double> block = exactgeo::distance_matrix(mesh, sources, options);
+  const std::size_t n = mesh.vertex_count();
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(block[i * targets.size() + t]), std::bit_cast<std::uint64_t>(full[i * n + targets[t]]))
+          << "row " << i << " target " << t;
+}
+
 // Each run stops once its targets are final: a near target costs a fraction of a full row.
 TEST(DistanceMatrix, NearTargetsStopTheRunsEarly) {
   const Mesh mesh(exactgeo::make_grid(60, 60, 60, 60));
