@@ -31,8 +31,8 @@ int run_matrix(const MatrixArguments& arguments) {
   if (!arguments.targets.empty()) options.target_vertices = parse_vertex_list(arguments.targets, "--targets");
   Progress progress("rows", sources.size(), arguments.quiet);
   const std::size_t columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
-  const std::span<const std::uint32_t> targets =
-      options.target_vertices ? std::span<const std::uint32_t>(*options.target_vertices) : std::span<const std::uint32_t>();
+  std::span<const std::uint32_t> targets;
+  if (options.target_vertices) targets = *options.target_vertices;
   // Checked before the output is created, so that a bad vertex leaves an existing file as it was.
   for (std::uint32_t v : targets) exactgeo::vertex_point(mesh, v);
   const std::unique_ptr<MatrixWriter> writer =
@@ -49,7 +49,8 @@ int run_matrix(const MatrixArguments& arguments) {
 
 Command add_matrix_command(CLI::App& app) {
   auto arguments = std::make_shared<MatrixArguments>();
-  CLI::App* command = app.add_subcommand("matrix", "Distances from many source vertices to every vertex (or to target vertices), in parallel");
+  CLI::App* command = app.add_subcommand(
+      "matrix", "Distances from many source vertices to every vertex (or to target vertices), in parallel");
   add_mesh_options(*command, arguments->mesh);
   add_list_option(*command, arguments->mesh, "--sources", arguments->sources,
                   "Source vertices (the rows), as files or lists, separated by spaces, newlines, ',' or ';', or a CSV "

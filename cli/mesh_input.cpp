@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <filesystem>
 #include <iterator>
-#include <chrono>
 #include <optional>
 #include <string_view>
 #include <utility>
@@ -121,7 +121,9 @@ void add_mesh_options(CLI::App& command, MeshArguments& mesh) {
 
 CLI::Option* add_list_option(CLI::App& command, MeshArguments& mesh, const std::string& name,
                              std::vector<std::string>& values, const std::string& help) {
-  CLI::Option* option = command.add_option(name, values, help)->expected(1, CLI::detail::expected_max_vector_size)->allow_extra_args(true);
+  CLI::Option* option = command.add_option(name, values, help)
+                            ->expected(1, CLI::detail::expected_max_vector_size)
+                            ->allow_extra_args(true);
   mesh.lists.push_back({option, &values});
   return option;
 }

@@ -88,7 +88,8 @@ std::FILE* OutputFile::stream() {
 
 void OutputFile::commit() {
   if (path_ == kStdout) {
-    if (std::fflush(stdout) != 0 || std::ferror(stdout)) throw io_error(std::string("error writing to standard output: ") + std::strerror(errno));
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      throw io_error(std::string("error writing to standard output: ") + std::strerror(errno));
     committed_ = true;
     return;
   }

@@ -109,7 +109,8 @@ void write_values_ply(std::FILE* file, const Values& values) {
   const auto positions = mesh.positions();
   const auto triangles = mesh.triangles();
   const double largest = largest_finite(values.distances);
-  std::fprintf(file, "ply\nformat binary_little_endian 1.0\ncomment written by exactgeo: geodesic distance per vertex\n");
+  std::fprintf(file, "ply\nformat binary_little_endian 1.0\n"
+                     "comment written by exactgeo: geodesic distance per vertex\n");
   std::fprintf(file, "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n", mesh.vertex_count());
   std::fprintf(file, "property float distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
   std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
@@ -118,7 +119,8 @@ void write_values_ply(std::FILE* file, const Values& values) {
   bytes.reserve(mesh.vertex_count() * 20 + mesh.face_count() * 13);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     const double d = values.distances[v];
-    for (int k = 0; k < 3; ++k) append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(positions[3 * v + k])));
+    for (int k = 0; k < 3; ++k)
+      append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(positions[3 * v + k])));
     append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(d)));
     if (!values.labels.empty())
       append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<std::int32_t>(label_value(values.labels[v]))));

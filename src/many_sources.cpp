@@ -51,7 +51,9 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
           if (options.target_vertices && targets.empty()) continue;  // no columns, nothing to run
           const GeodesicResult& result = solver.solve(std::span(&source, 1), targets, options.geodesic);
           if (options.target_vertices) {
-            for (std::size_t t = 0; t < columns; ++t) row[static_cast<std::ptrdiff_t>(t)] = result.distances[(*options.target_vertices)[t]];
+            const std::vector<std::uint32_t>& column_vertices = *options.target_vertices;
+            for (std::size_t t = 0; t < columns; ++t)
+              row[static_cast<std::ptrdiff_t>(t)] = result.distances[column_vertices[t]];
           } else {
             std::copy(result.distances.begin(), result.distances.end(), row);
           }
