@@ -743,6 +743,12 @@ TEST_F(Cli, SampleSpreadsOutFromTheFirstVertex) {
   // The second sample on a sphere is the antipode: half the great circle, a bit less on the polyhedron.
   EXPECT_LT(previous, kInf);
   expect_error(run("sample @icosphere:2 -k 3 --first 9999"), 2, "9999");
+  expect_error(run("sample @icosphere:2 -k 3 --first 1 x"), 1, "'x' is not a vertex index");
+  // Several first samples, taken in their order, MESH before or after.
+  const RunResult seeded = run("sample --first 7 3 @icosphere:2 -k 4");
+  ASSERT_EQ(seeded.exit_code, 0) << seeded.err;
+  EXPECT_EQ(seeded.out.rfind("7\n3\n", 0), 0u) << seeded.out;
+  EXPECT_EQ(run("sample @icosphere:2 -k 4 --first 7 --first 3").out, seeded.out);
   expect_error(run("sample @icosphere:2 -k -1"), 1, "-1");  // not every vertex, as a wrapped count would give
   expect_error(run("sample @icosphere:2 -k 3 --out " + arg("s.ply")), 1, "s.ply");  // not text under a .ply name
   expect_error(run("matrix @icosphere:2 --sources 1 --threads -2 --out " + arg("m.npy")), 1, "-2");
