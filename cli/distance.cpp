@@ -20,7 +20,8 @@ struct DistanceArguments {
   MeshArguments mesh;
   SourceArguments sources;
   double max_distance = std::numeric_limits<double>::infinity();
-  std::string targets;
+  std::vector<std::string> targets;
+  std::string targets_beyond = "inf";
   bool labels = false;
   std::string out;
   std::string target_out;
@@ -77,6 +78,7 @@ nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const Load
   json["targets"] = targets;
   json["max_distance_cutoff"] =
       std::isinf(arguments.max_distance) ? nlohmann::ordered_json() : nlohmann::ordered_json(arguments.max_distance);
+  json["targets_beyond"] = arguments.targets_beyond;
   json["algorithm"] = exactgeo::algorithm_name(options.algorithm);
   json["rule1"] = options.rule1;
   json["rule23"] = options.rule23;
@@ -147,6 +149,9 @@ int run_distance(const DistanceArguments& arguments) {
   const std::vector<exactgeo::SurfacePoint> targets =
       arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>()
                                 : parse_targets(list_text(arguments.targets), mesh, "--targets");
+  // --targets-beyond exact: the run goes on until every target is final, whatever the cut-off; the cut-off
+  // then applies to the vertex distances alone.
+  const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";
 
   exactgeo::GeodesicSolver solver(mesh);
   Progress progress("vertices", mesh.vertex_count(), arguments.quiet);
@@ -156,11 +161,17 @@ int run_distance(const DistanceArguments& arguments) {
   const exactgeo::GeodesicOptions options{.algorithm = exactgeo::parse_algorithm(arguments.algorithm),
                                           .rule1 = !arguments.no_rule1,
                                           .rule23 = !arguments.no_rule23,
-                                          .max_distance = arguments.max_distance,
+                                          .max_distance = exact_targets ? HUGE_VAL : arguments.max_distance,
                                           .collect_timings = arguments.timers,
                                           .threads = threads_for(arguments.threads, mesh)};
-  const exactgeo::GeodesicResult& result = solve(solver, sources, targets, options);
+  exactgeo::GeodesicResult result = solve(solver, sources, targets, options);
   progress.finish();
+  if (exact_targets)
+    for (std::size_t v = 0; v < result.distances.size(); ++v)
+      if (result.distances[v] > arguments.max_distance) {
+        result.distances[v] = HUGE_VAL;
+        result.nearest_source[v] = exactgeo::kNoSource;
+      }
   const Reach reach = reach_of(result.distances);
   warn_if_seams_cut_the_surface(arguments, mesh, reach);
 
@@ -175,7 +186,9 @@ int run_distance(const DistanceArguments& arguments) {
                  {result.target_distances, labels_if_asked(result.target_nearest_source), "target", nullptr});
   if (!arguments.stats.empty())
     write_json(arguments.stats, stats_file(arguments, loaded, sources, targets.size(), options, result.stats, reach));
-  if (arguments.out.empty()) print_table(summary(arguments, loaded, options, result, targets.size(), reach));
+  // The summary goes to stdout only when no output does.
+  if (arguments.out.empty() && arguments.target_out != kStdout)
+    print_table(summary(arguments, loaded, options, result, targets.size(), reach));
   return kExitOk;
 }
 
@@ -186,26 +199,35 @@ Command add_distance_command(CLI::App& app) {
   DistanceArguments& a = *arguments;
   CLI::App* command = app.add_subcommand("distance", "Geodesic distance from sources to every vertex (and to targets)");
   add_mesh_options(*command, a.mesh);
-  add_source_options(*command, a.sources);
+  add_source_options(*command, a.mesh, a.sources);
   command
-      ->add_option("--max-distance", a.max_distance, "Stop the wavefront at this distance; vertices farther away get inf")
+      ->add_option("--max-distance", a.max_distance,
+                   "Stop the wavefront at this distance; vertices farther away get inf, and so do targets unless "
+                   "--targets-beyond exact")
       ->check(distance_check())
       ->type_name("R");
-  command
-      ->add_option("--targets", a.targets,
-                   "Targets, as a file or a list: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
-                   "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
-                   "exact up to the farthest target and inf beyond")
+  add_list_option(*command, a.mesh, "--targets", a.targets,
+                  "Targets, as files or lists: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
+                  "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
+                  "exact up to the farthest target and inf beyond")
       ->type_name("FILE|LIST");
+  command
+      ->add_option("--targets-beyond", a.targets_beyond,
+                   "What targets farther than --max-distance get: inf (default; the run stops at the cut-off) or "
+                   "exact (the run goes on until every target is final, as gdist and pygeodesic answer; the cut-off "
+                   "then applies to vertex distances only)")
+      ->check(CLI::IsMember({"inf", "exact"}))
+      ->type_name("WHAT");
   command->add_flag("--labels", a.labels,
                     "Add the nearest source (index in the order given, vertices first; -1 if none) to each output row");
   add_output_option(*command, "--out", a.out,
                     "Write one distance per vertex in input order: .txt (%.17g, 'inf' if unreachable), "
-                    ".csv (vertex,distance), .npy (float64) or .ply (the mesh with a distance property and colours)",
+                    ".csv (vertex,distance; - writes it to stdout), .npy (float64), .ply (the mesh with a float "
+                    "distance property and colours, binary) or .ascii.ply (the same as text, distances as doubles)",
                     kVertexValueFormats, "output");
   add_output_option(*command, "--target-out", a.target_out,
-                    "Write one distance per target: .txt, .csv (target,distance) or .npy; without it the summary "
-                    "lists them",
+                    "Write one distance per target: .txt, .csv (target,distance; - writes it to stdout) or .npy; "
+                    "without it the summary lists them",
                     kTargetValueFormats, "target output");
   command->add_option("--stats", a.stats, "Write statistics as JSON")->type_name("FILE.json");
   std::vector<std::string> algorithm_names;
@@ -224,6 +246,10 @@ Command add_distance_command(CLI::App& app) {
                     "reads slow the run down by up to 60%)");
   add_threads_option(*command, a.threads);
   command->add_flag("--quiet", a.quiet, "No progress line on stderr");
+  a.mesh.checks.push_back([&a] {
+    if (a.out == kStdout && a.target_out == kStdout)
+      throw CLI::ValidationError("--target-out", "--out and --target-out cannot both be - (standard output)");
+  });
   command->footer(kExitCodesHelp);
   return {command, [arguments] { return run_distance(*arguments); }};
 }

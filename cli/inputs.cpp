@@ -51,34 +51,24 @@ exactgeo::Error invalid_argument(const std::string& message) {
 
 }  // namespace
 
-void add_source_options(CLI::App& command, SourceArguments& sources) {
-  // A vertex index is a plain decimal number; whether it exists is up to the mesh.
-  const CLI::Validator vertex_check(
-      [](std::string& text) -> std::string {
-        if (!count_check()(text).empty()) return "'" + text + "' is not a vertex index";
-        return {};
-      },
-      "", "source");
-  const CLI::Validator point_check(
-      [](std::string& text) -> std::string {
-        if (!parse_surface_point(text)) return "'" + text + "' is not a surface point F:b0,b1,b2";
-        return {};
-      },
-      "", "surface point");
-  CLI::Option* vertices = command.add_option("--source", sources.vertices,
-                                             "Source vertex index (repeat for several sources)")
-                              ->check(vertex_check)
-                              ->allow_extra_args(false)  // one index per --source, so MESH may follow it
+void add_source_options(CLI::App& command, MeshArguments& mesh, SourceArguments& sources) {
+  CLI::Option* vertices = add_list_option(command, mesh, "--source", sources.vertices,
+                                          "Source vertex indices (--source 0 911, or repeated)")
                               ->type_name("I");
-  CLI::Option* points = command.add_option("--source-point", sources.points,
-                                           "Source point on input triangle F with barycentric weights b0,b1,b2 "
-                                           "(repeat for several; numbered after the --source vertices)")
-                            ->check(point_check)
-                            ->allow_extra_args(false)
+  CLI::Option* points = add_list_option(command, mesh, "--source-point", sources.points,
+                                        "Source points on input triangle F with barycentric weights b0,b1,b2 "
+                                        "(several, or repeated; numbered after the --source vertices)")
                             ->type_name("F:b0,b1,b2");
-  command.callback([&command, vertices, points] {
-    if (vertices->count() == 0 && points->count() == 0)
+  // Syntax only, once MESH has been taken back from the lists; whether a vertex exists is up to the mesh.
+  mesh.checks.push_back([&command, &sources, vertices, points] {
+    if (sources.vertices.empty() && sources.points.empty())
       throw CLI::RequiredError(command.get_name() + ": --source or --source-point");
+    for (const std::string& text : sources.vertices)
+      if (!count_check()(std::string(text)).empty())
+        throw CLI::ValidationError(vertices->get_name(), "'" + text + "' is not a vertex index");
+    for (const std::string& text : sources.points)
+      if (!parse_surface_point(text))
+        throw CLI::ValidationError(points->get_name(), "'" + text + "' is not a surface point F:b0,b1,b2");
   });
 }
 
@@ -157,6 +147,12 @@ std::string list_text(const std::string& argument) {
   return text.str();
 }
 
+std::string list_text(const std::vector<std::string>& arguments) {
+  std::string text;
+  for (const std::string& argument : arguments) text += list_text(argument) + "\n";
+  return text;
+}
+
 namespace {
 
 // The position of the "vertex" column if the first line is a CSV header naming one (as `sample --out s.csv`
@@ -218,6 +214,15 @@ std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std:
   std::vector<std::uint32_t> vertices =
       column ? csv_column_vertices(text, *column, origin) : listed_vertices(text, origin);
   if (vertices.empty()) throw invalid_argument(origin + ": no vertex given");
+  return vertices;
+}
+
+std::vector<std::uint32_t> parse_vertex_list(const std::vector<std::string>& arguments, const std::string& origin) {
+  std::vector<std::uint32_t> vertices;
+  for (const std::string& argument : arguments) {
+    const std::vector<std::uint32_t> listed = parse_vertex_list(list_text(argument), origin);
+    vertices.insert(vertices.end(), listed.begin(), listed.end());
+  }
   return vertices;
 }
 

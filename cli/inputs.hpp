@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -17,12 +18,27 @@
 
 namespace exactgeo::cli {
 
-// MESH and --weld, which every command takes.
+// An option taking several values (--source 0 911, or repeated). Such an option would also take a MESH
+// written after it as its last value: it is moved back to MESH after parsing, so that
+// `distance --source 0 911 bunny.obj` works as well as `distance bunny.obj --source 0 911`.
+struct ListOption {
+  CLI::Option* option;
+  std::vector<std::string>* values;
+};
+
+// MESH and --weld, which every command takes; the command's list options and the checks that run once
+// MESH is known (one callback per command, installed by add_mesh_options).
 struct MeshArguments {
   std::string name;  // a file or a built-in mesh such as @torus
   bool weld = false;
+  std::vector<ListOption> lists;
+  std::vector<std::function<void()>> checks;  // after parsing; throw CLI::ParseError (a usage error)
 };
 void add_mesh_options(CLI::App& command, MeshArguments& mesh);
+
+// A list option bound to `values`: several values per use, and repeatable.
+CLI::Option* add_list_option(CLI::App& command, MeshArguments& mesh, const std::string& name,
+                             std::vector<std::string>& values, const std::string& help);
 
 struct LoadedMesh {
   exactgeo::Mesh mesh;
@@ -36,7 +52,7 @@ struct SourceArguments {
   std::vector<std::string> vertices;  // syntax checked while parsing, converted after loading
   std::vector<std::string> points;
 };
-void add_source_options(CLI::App& command, SourceArguments& sources);
+void add_source_options(CLI::App& command, MeshArguments& mesh, SourceArguments& sources);
 
 // The sources as the library takes them: vertex indices alone keep the vertex-source semantics (every copy
 // of a split vertex is a source); with points, vertices become points too. Vertices are numbered first.
@@ -60,8 +76,12 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
 
 // A list argument: the contents of the file it names if there is one, else the argument itself.
 std::string list_text(const std::string& argument);
+// The values of a list option, each a file or a list, one after the other.
+std::string list_text(const std::vector<std::string>& arguments);
 // Vertex indices separated by spaces, newlines, ',' or ';'.
 std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin);
+// The same for each value of a list option (a file, a CSV file with a vertex column, or a list), concatenated.
+std::vector<std::uint32_t> parse_vertex_list(const std::vector<std::string>& arguments, const std::string& origin);
 
 // --threads for commands that run one propagation: how many threads share it. Unset, the library's
 // recommendation for the mesh (every core on large meshes); 0, one per core.

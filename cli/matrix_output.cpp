@@ -21,11 +21,12 @@ class FileMatrixWriter : public MatrixWriter {
   std::FILE* file_;
 };
 
-// Dense float64, inf beyond the cut-off: the header, then the rows as they come.
+// Dense float64, inf beyond the cut-off: the header, then the rows as they come. The matrix alone: NumPy
+// refuses headers with keys of its own, so the sources and targets are the caller's (or use .npz).
 class NpyMatrixWriter final : public FileMatrixWriter {
  public:
-  NpyMatrixWriter(const std::string& path, std::size_t rows, std::size_t columns) : FileMatrixWriter(path) {
-    const std::string header = npy_header("<f8", std::vector<std::size_t>{rows, columns});
+  NpyMatrixWriter(const std::string& path, const MatrixAxes& axes) : FileMatrixWriter(path) {
+    const std::string header = npy_header("<f8", std::vector<std::size_t>{axes.sources.size(), axes.columns});
     std::fwrite(header.data(), 1, header.size(), file_);
   }
   void write_rows(std::size_t, std::span<const double> rows) override {
@@ -34,11 +35,12 @@ class NpyMatrixWriter final : public FileMatrixWriter {
   }
 };
 
-// source,vertex,distance for the finite entries.
+// source,vertex,distance for the finite entries (source: the row, an index into the sources); with targets
+// source,target,distance (target: an index into the targets).
 class CsvMatrixWriter final : public FileMatrixWriter {
  public:
-  CsvMatrixWriter(const std::string& path, std::size_t columns) : FileMatrixWriter(path), columns_(columns) {
-    std::fputs("source,vertex,distance\n", file_);
+  CsvMatrixWriter(const std::string& path, const MatrixAxes& axes) : FileMatrixWriter(path), columns_(axes.columns) {
+    std::fputs(axes.targets.empty() ? "source,vertex,distance\n" : "source,target,distance\n", file_);
   }
   void write_rows(std::size_t first_row, std::span<const double> rows) override {
     for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -51,13 +53,16 @@ class CsvMatrixWriter final : public FileMatrixWriter {
   std::size_t columns_;
 };
 
-// scipy.sparse CSR of the finite entries, for scipy.sparse.load_npz. A zip member's size comes before its
-// data, so the entries and their columns grow in temporary files, and the archive is written at the end:
-// memory stays at a block of rows (and one offset per row).
+// scipy.sparse CSR of the finite entries, for scipy.sparse.load_npz, with the source vertex of each row
+// (`sources`, int64) and, with targets, the target vertex of each column (`targets`), which load_npz
+// leaves aside and numpy.load reads. A zip member's size comes before its data, so the entries and their
+// columns grow in temporary files, and the archive is written at the end: memory stays at a block of rows
+// (and one offset per row).
 class NpzMatrixWriter final : public MatrixWriter {
  public:
-  NpzMatrixWriter(const std::string& path, std::size_t rows, std::size_t columns)
-      : output_(path), rows_(rows), columns_(columns) {}
+  NpzMatrixWriter(const std::string& path, const MatrixAxes& axes)
+      : output_(path), rows_(axes.sources.size()), columns_(axes.columns),
+        sources_(axes.sources.begin(), axes.sources.end()), targets_(axes.targets.begin(), axes.targets.end()) {}
   void write_rows(std::size_t, std::span<const double> rows) override {
     std::vector<double> data;
     std::vector<std::int32_t> indices;
@@ -76,13 +81,15 @@ class NpzMatrixWriter final : public MatrixWriter {
   }
   void finish() override {
     const std::vector<std::int64_t> shape = {static_cast<std::int64_t>(rows_), static_cast<std::int64_t>(columns_)};
-    const std::vector<NpzMember> members = {
+    std::vector<NpzMember> members = {
         {"indices", "", {}, {}, indices_.finish()},
         {"indptr", "<i8", {indptr_.size()}, little_endian_bytes(indptr_)},
         {"format", "|S3", {}, {'c', 's', 'r'}},
         {"shape", "<i8", {2}, little_endian_bytes(shape)},
         {"data", "", {}, {}, data_.finish()},
+        {"sources", "<i8", {sources_.size()}, little_endian_bytes(sources_)},
     };
+    if (!targets_.empty()) members.push_back({"targets", "<i8", {targets_.size()}, little_endian_bytes(targets_)});
     write_npz(output_.temporary_path(), members);
     output_.commit();
   }
@@ -90,20 +97,21 @@ class NpzMatrixWriter final : public MatrixWriter {
  private:
   OutputFile output_;
   std::size_t rows_, columns_;
+  std::vector<std::int64_t> sources_, targets_;
   GrowingNpy data_{"<f8"};
   GrowingNpy indices_{"<i4"};
   std::vector<std::int64_t> indptr_ = {0};
   std::size_t entries_ = 0;  // in the blocks before
 };
 
-std::unique_ptr<MatrixWriter> make_npy(const std::string& path, std::size_t rows, std::size_t columns) {
-  return std::make_unique<NpyMatrixWriter>(path, rows, columns);
+std::unique_ptr<MatrixWriter> make_npy(const std::string& path, const MatrixAxes& axes) {
+  return std::make_unique<NpyMatrixWriter>(path, axes);
 }
-std::unique_ptr<MatrixWriter> make_npz(const std::string& path, std::size_t rows, std::size_t columns) {
-  return std::make_unique<NpzMatrixWriter>(path, rows, columns);
+std::unique_ptr<MatrixWriter> make_npz(const std::string& path, const MatrixAxes& axes) {
+  return std::make_unique<NpzMatrixWriter>(path, axes);
 }
-std::unique_ptr<MatrixWriter> make_csv(const std::string& path, std::size_t, std::size_t columns) {
-  return std::make_unique<CsvMatrixWriter>(path, columns);
+std::unique_ptr<MatrixWriter> make_csv(const std::string& path, const MatrixAxes& axes) {
+  return std::make_unique<CsvMatrixWriter>(path, axes);
 }
 
 constexpr std::array<Format<MatrixWriterFactory>, 3> kMatrixFormatTable = {{

@@ -49,6 +49,10 @@ extern "C" void remove_unfinished_outputs_and_stop(int signal_number) {
 }  // namespace
 
 OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  if (path_ == kStdout) {
+    stream_ = stdout;
+    return;
+  }
   // Beside the destination, so that the rename stays on one file system; hidden, and named as unfinished.
   const std::filesystem::path destination(path_);
   temporary_ = (destination.parent_path() / ("." + destination.filename().string() + ".partial-XXXXXX")).string();
@@ -68,6 +72,7 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
 }
 
 OutputFile::~OutputFile() {
+  if (path_ == kStdout) return;
   if (stream_) std::fclose(stream_);
   if (!committed_) std::remove(temporary_.c_str());
   forget_unfinished(temporary_.c_str());
@@ -82,6 +87,12 @@ std::FILE* OutputFile::stream() {
 }
 
 void OutputFile::commit() {
+  if (path_ == kStdout) {
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      throw io_error(std::string("error writing to standard output: ") + std::strerror(errno));
+    committed_ = true;
+    return;
+  }
   if (stream_) {
     const bool failed = std::ferror(stream_) != 0;
     const bool closed = std::fclose(stream_) == 0;

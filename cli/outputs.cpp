@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -57,15 +58,26 @@ std::array<std::uint8_t, 3> ramp_colour(double t) {
   return colour;
 }
 
-// The mesh as ASCII PLY with the distance as a per-vertex scalar (and the nearest source with labels) and a
-// colour ramp from 0 to the largest finite distance; unreachable vertices are grey with distance inf.
-void write_values_ply(std::FILE* file, const Values& values) {
+// A vertex's colour: the ramp from 0 to the largest finite distance, grey where the distance is inf.
+std::array<std::uint8_t, 3> vertex_colour(double distance, double largest) {
+  if (!std::isfinite(distance)) return {128, 128, 128};
+  return ramp_colour(largest > 0 ? distance / largest : 0);
+}
+
+double largest_finite(std::span<const double> distances) {
+  double largest = 0;
+  for (double d : distances)
+    if (std::isfinite(d)) largest = std::max(largest, d);
+  return largest;
+}
+
+// The mesh as ASCII PLY (.ascii.ply) with the distance as a per-vertex scalar (and the nearest source with
+// labels) and the colour ramp; every value as written by .txt, so the doubles round-trip.
+void write_values_ascii_ply(std::FILE* file, const Values& values) {
   const exactgeo::Mesh& mesh = *values.mesh;
   const auto positions = mesh.positions();
   const auto triangles = mesh.triangles();
-  double largest = 0;
-  for (double d : values.distances)
-    if (std::isfinite(d)) largest = std::max(largest, d);
+  const double largest = largest_finite(values.distances);
   std::fprintf(file, "ply\nformat ascii 1.0\ncomment written by exactgeo: geodesic distance per vertex\n");
   std::fprintf(file, "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n",
                mesh.vertex_count());
@@ -74,8 +86,7 @@ void write_values_ply(std::FILE* file, const Values& values) {
   std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     const double d = values.distances[v];
-    const std::array<std::uint8_t, 3> colour =
-        std::isfinite(d) ? ramp_colour(largest > 0 ? d / largest : 0) : std::array<std::uint8_t, 3>{128, 128, 128};
+    const std::array<std::uint8_t, 3> colour = vertex_colour(d, largest);
     std::fprintf(file, "%.17g %.17g %.17g ", positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
     print_distance(file, d);
     if (!values.labels.empty()) std::fprintf(file, " %lld", label_value(values.labels[v]));
@@ -85,10 +96,49 @@ void write_values_ply(std::FILE* file, const Values& values) {
     std::fprintf(file, "3 %u %u %u\n", triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]);
 }
 
-constexpr std::array<Format<ValuesWriter>, 4> kVertexValueFormatTable = {{
+// Little-endian bytes of 32-bit values, as binary PLY stores them.
+void append_le32(std::vector<unsigned char>& bytes, std::uint32_t bits) {
+  for (int byte = 0; byte < 4; ++byte) bytes.push_back(static_cast<unsigned char>(bits >> (8 * byte)));
+}
+
+// The same as binary little-endian PLY (.ply): per vertex float x, y, z, distance (inf where unreachable),
+// with labels int nearest_source, then uchar red, green, blue; per face a uchar count and three int
+// indices. The layout exactgeo's Python package writes too; a quarter of the ASCII file's size.
+void write_values_ply(std::FILE* file, const Values& values) {
+  const exactgeo::Mesh& mesh = *values.mesh;
+  const auto positions = mesh.positions();
+  const auto triangles = mesh.triangles();
+  const double largest = largest_finite(values.distances);
+  std::fprintf(file, "ply\nformat binary_little_endian 1.0\n"
+                     "comment written by exactgeo: geodesic distance per vertex\n");
+  std::fprintf(file, "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n", mesh.vertex_count());
+  std::fprintf(file, "property float distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
+  std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
+  std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
+  std::vector<unsigned char> bytes;
+  bytes.reserve(mesh.vertex_count() * 20 + mesh.face_count() * 13);
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const double d = values.distances[v];
+    for (int k = 0; k < 3; ++k)
+      append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(positions[3 * v + k])));
+    append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(d)));
+    if (!values.labels.empty())
+      append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<std::int32_t>(label_value(values.labels[v]))));
+    const std::array<std::uint8_t, 3> colour = vertex_colour(d, largest);
+    bytes.insert(bytes.end(), colour.begin(), colour.end());
+  }
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    bytes.push_back(3);
+    for (int k = 0; k < 3; ++k) append_le32(bytes, triangles[3 * f + k]);
+  }
+  std::fwrite(bytes.data(), 1, bytes.size(), file);
+}
+
+constexpr std::array<Format<ValuesWriter>, 5> kVertexValueFormatTable = {{
     {".txt", write_values_txt},
     {".csv", write_values_csv},
     {".npy", write_values_npy},
+    {".ascii.ply", write_values_ascii_ply},  // before .ply, which it ends with
     {".ply", write_values_ply},
 }};
 // Per-target values have no mesh to colour, so no .ply.
@@ -195,11 +245,11 @@ const std::span<const Format<ValuesWriter>> kTargetValueFormats = kTargetValueFo
 const std::span<const Format<PathWriter>> kPathFormats = kPathFormatTable;
 const std::span<const Format<SamplesWriter>> kSamplesFormats = kSamplesFormatTable;
 
-std::string extension_of(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return extension;
+bool has_extension(const std::string& path, std::string_view extension) {
+  if (path.size() <= extension.size()) return false;
+  const std::string_view ending = std::string_view(path).substr(path.size() - extension.size());
+  return std::equal(ending.begin(), ending.end(), extension.begin(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
 
 

@@ -20,21 +20,26 @@
 
 namespace exactgeo::cli {
 
-// One output format: the lower-case extension that selects it and the function that writes it.
+// One output format: the lower-case ending that selects it (".npy", or ".ascii.ply" before ".ply") and the
+// function that writes it.
 template <class Writer>
 struct Format {
   std::string_view extension;
   Writer write;
 };
 
-// A file's extension in lower case (".npy"): every output format is chosen by it, whatever its case.
-std::string extension_of(const std::string& path);
+// "-" as an output: standard output, in the table's ".csv" format (tables without one do not accept it).
+inline constexpr std::string_view kStdout = "-";
 
+// Whether `path` ends with `extension`, whatever the case: every output format is chosen by its ending.
+bool has_extension(const std::string& path, std::string_view extension);
+
+// The first format of the table whose ending `path` has (so a longer ending goes before a shorter one it
+// ends with); "-" finds ".csv".
 template <class Writer>
 const Format<Writer>* find_format(std::span<const Format<Writer>> formats, const std::string& path) {
-  const std::string extension = extension_of(path);
   for (const Format<Writer>& format : formats)
-    if (format.extension == extension) return &format;
+    if (path == kStdout ? format.extension == ".csv" : has_extension(path, format.extension)) return &format;
   return nullptr;
 }
 
@@ -46,7 +51,8 @@ std::pair<std::string, std::string> format_names(std::span<const Format<Writer>>
     braces += (i ? "," : "") + std::string(formats[i].extension.substr(1));
     sentence += (i == 0 ? "" : i + 1 == formats.size() ? " or " : ", ") + std::string(formats[i].extension);
   }
-  return {"FILE.{" + braces + "}", sentence};
+  const bool to_stdout = find_format(formats, std::string(kStdout)) != nullptr;
+  return {"FILE.{" + braces + "}" + (to_stdout ? "|-" : ""), sentence + (to_stdout ? " (or - for CSV on stdout)" : "")};
 }
 
 // Adds an output option to `command` that accepts the table's extensions (a usage error otherwise); `what`
@@ -68,6 +74,7 @@ CLI::Option* add_output_option(CLI::App& command, const std::string& name, std::
 // An output file that appears only when complete: written to a temporary file beside its destination and
 // renamed over it by commit(). A run that fails or is interrupted leaves an existing file as it was, and
 // never a truncated file that would load as a result. Every failure is an io_error naming the file.
+// The path "-" is standard output, written directly (commit() flushes it).
 class OutputFile {
  public:
   explicit OutputFile(std::string path);
@@ -101,7 +108,7 @@ struct Values {
   const exactgeo::Mesh* mesh;             // the mesh the values belong to (.ply), or null for targets
 };
 using ValuesWriter = void (*)(std::FILE*, const Values&);
-extern const std::span<const Format<ValuesWriter>> kVertexValueFormats;  // .txt .csv .npy .ply
+extern const std::span<const Format<ValuesWriter>> kVertexValueFormats;  // .txt .csv .npy .ascii.ply .ply
 extern const std::span<const Format<ValuesWriter>> kTargetValueFormats;  // .txt .csv .npy
 void write_values(const std::string& path, std::span<const Format<ValuesWriter>> formats, const Values& values);
 
@@ -119,8 +126,14 @@ class MatrixWriter {
   // Completes the file; until then it is not a valid result.
   virtual void finish() = 0;
 };
-using MatrixWriterFactory = std::unique_ptr<MatrixWriter> (*)(const std::string& path, std::size_t rows,
-                                                              std::size_t columns);
+// What the rows and columns are: the source vertex of each row, and the target vertex of each column (empty:
+// the columns are every vertex, in order).
+struct MatrixAxes {
+  std::span<const std::uint32_t> sources;
+  std::span<const std::uint32_t> targets;
+  std::size_t columns;
+};
+using MatrixWriterFactory = std::unique_ptr<MatrixWriter> (*)(const std::string& path, const MatrixAxes& axes);
 extern const std::span<const Format<MatrixWriterFactory>> kMatrixFormats;  // .npy .npz .csv
 
 // %.17g round-trips every double; unreachable is written "inf" on every platform.

@@ -34,7 +34,8 @@ int run_path(const PathArguments& arguments) {
     write_file(arguments.out, [&](std::FILE* file) { write(file, path); });
   }
   if (path.points.empty()) {
-    std::printf("target unreachable from every source\n");
+    // Not mixed into a path written to stdout.
+    std::fprintf(arguments.out == kStdout ? stderr : stdout, "target unreachable from every source\n");
     return kExitOk;
   }
   if (arguments.out.empty()) {
@@ -54,14 +55,14 @@ Command add_path_command(CLI::App& app) {
   auto arguments = std::make_shared<PathArguments>();
   CLI::App* command = app.add_subcommand("path", "Shortest path from the nearest source to a target");
   add_mesh_options(*command, arguments->mesh);
-  add_source_options(*command, arguments->sources);
+  add_source_options(*command, arguments->mesh, arguments->sources);
   command->add_option("--target", arguments->target, "Target vertex index or point F:b0,b1,b2")
       ->required()
       ->type_name("I|F:b0,b1,b2");
   add_threads_option(*command, arguments->threads);
   add_output_option(*command, "--out", arguments->out,
-                    "Write the path: .csv (x,y,z and where each point lies), .obj (a polyline) or .json; without "
-                    "it the points are printed",
+                    "Write the path: .csv (x,y,z and where each point lies; - writes it to stdout), .obj (a "
+                    "polyline) or .json; without it the points are printed",
                     kPathFormats, "path");
   command->footer(kExitCodesHelp);
   return {command, [arguments] { return run_path(*arguments); }};

@@ -14,16 +14,19 @@ namespace {
 struct SampleArguments {
   MeshArguments mesh;
   std::size_t count = 0;
-  std::uint32_t first = 0;
+  std::vector<std::string> first;  // vertex indices, syntax checked while parsing
   std::string out;
   bool quiet = false;
 };
 
 int run_sample(const SampleArguments& arguments) {
   const LoadedMesh loaded = load_mesh(arguments.mesh);
+  std::vector<std::uint32_t> first;
+  for (const std::string& text : arguments.first) first.push_back(parse_vertex_list(text, "--first").front());
+  if (first.empty()) first.push_back(0);
   Progress progress("samples", arguments.count, arguments.quiet);
   const exactgeo::Sampling sampling = exactgeo::farthest_point_sampling(
-      loaded.mesh, arguments.count, arguments.first, {}, [&](std::size_t done) { progress.update(done); });
+      loaded.mesh, arguments.count, first, {}, [&](std::size_t done) { progress.update(done); });
   progress.finish();
   // Without a file, one sample per line, as .txt has them.
   const SamplesWriter write = arguments.out.empty() ? kSamplesFormats[0].write : find_format(kSamplesFormats, arguments.out)->write;
@@ -42,12 +45,19 @@ Command add_sample_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("sample", "Geodesic farthest-point sampling of the vertices");
   add_mesh_options(*command, arguments->mesh);
   command->add_option("-k,--count", arguments->count, "Number of samples")->required()->check(count_check())->type_name("N");
-  command->add_option("--first", arguments->first, "The first sample (default 0)")->check(count_check())->type_name("I");
+  add_list_option(*command, arguments->mesh, "--first", arguments->first,
+                  "The first samples, taken in their order (default 0), then the farthest points")
+      ->type_name("I");
   add_output_option(*command, "--out", arguments->out,
                     "Write the samples: .txt (one vertex per line), .csv (sample,vertex,radius: the distance to "
                     "the samples before) or .npy (int64); without it they are printed",
                     kSamplesFormats, "samples");
   command->add_flag("--quiet", arguments->quiet, "No progress line on stderr");
+  arguments->mesh.checks.push_back([a = arguments.get()] {
+    for (const std::string& text : a->first)
+      if (!count_check()(std::string(text)).empty())
+        throw CLI::ValidationError("--first", "'" + text + "' is not a vertex index");
+  });
   command->footer(kExitCodesHelp);
   return {command, [arguments] { return run_sample(*arguments); }};
 }

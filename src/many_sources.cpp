@@ -22,7 +22,12 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
                              const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume) {
   detail::check_options(options.geodesic);
   for (std::uint32_t v : source_vertices) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
-  const std::size_t columns = mesh.vertex_count();
+  // Targets stop each run once final; their columns are then read from the vertex distances, as the full
+  // matrix has them (the smallest over a split vertex's copies).
+  std::vector<SurfacePoint> targets;
+  if (options.target_vertices)
+    for (std::uint32_t v : *options.target_vertices) targets.push_back(vertex_point(mesh, v));  // throws if invalid
+  const std::size_t columns = options.target_vertices ? targets.size() : mesh.vertex_count();
   // More threads than rows would only hold idle solvers (each as large as the mesh).
   const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(
       options.threads ? options.threads : std::thread::hardware_concurrency(), 1, std::max<std::size_t>(1, source_vertices.size())));
@@ -42,8 +47,16 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
         for (std::size_t r; (r = next.fetch_add(1)) < rows;) {
           detail::throw_if_stopped(options.geodesic.stop);
           const std::uint32_t source = source_vertices[first + r];
-          const GeodesicResult& result = solver.solve(std::span(&source, 1), {}, options.geodesic);
-          std::copy(result.distances.begin(), result.distances.end(), block.begin() + static_cast<std::ptrdiff_t>(r * columns));
+          const auto row = block.begin() + static_cast<std::ptrdiff_t>(r * columns);
+          if (options.target_vertices && targets.empty()) continue;  // no columns, nothing to run
+          const GeodesicResult& result = solver.solve(std::span(&source, 1), targets, options.geodesic);
+          if (options.target_vertices) {
+            const std::vector<std::uint32_t>& column_vertices = *options.target_vertices;
+            for (std::size_t t = 0; t < columns; ++t)
+              row[static_cast<std::ptrdiff_t>(t)] = result.distances[column_vertices[t]];
+          } else {
+            std::copy(result.distances.begin(), result.distances.end(), row);
+          }
         }
       } catch (...) {
         const std::lock_guard lock(failure_mutex);
@@ -63,9 +76,10 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
 
 std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                     const MatrixOptions& options) {
-  std::vector<double> matrix(source_vertices.size() * mesh.vertex_count());
+  const std::size_t columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
+  std::vector<double> matrix(source_vertices.size() * columns);
   for_each_distance_block(mesh, source_vertices, options, [&](std::size_t first, std::span<const double> rows) {
-    std::copy(rows.begin(), rows.end(), matrix.begin() + static_cast<std::ptrdiff_t>(first * mesh.vertex_count()));
+    std::copy(rows.begin(), rows.end(), matrix.begin() + static_cast<std::ptrdiff_t>(first * columns));
   });
   return matrix;
 }
@@ -74,7 +88,7 @@ SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::ui
                                        const MatrixOptions& options) {
   SparseDistances sparse;
   sparse.rows = source_vertices.size();
-  sparse.columns = mesh.vertex_count();
+  sparse.columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
   for_each_distance_block(mesh, source_vertices, options, [&](std::size_t first, std::span<const double> rows) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
       if (std::isinf(rows[i])) continue;

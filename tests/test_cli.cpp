@@ -496,9 +496,9 @@ TEST_F(Cli, MaxDistanceLeavesFartherVerticesAtInf) {
   }
 }
 
-TEST_F(Cli, PlyOutputCarriesDistancesAndColours) {
-  ASSERT_EQ(run("distance @grid:2:2 --source 0 --labels --out " + arg("d.ply")).exit_code, 0);
-  std::istringstream lines(read_file(path("d.ply")));
+TEST_F(Cli, AsciiPlyOutputCarriesDistancesAndColours) {
+  ASSERT_EQ(run("distance @grid:2:2 --source 0 --labels --out " + arg("d.ascii.ply")).exit_code, 0);
+  std::istringstream lines(read_file(path("d.ascii.ply")));
   std::string line;
   std::vector<std::string> header;
   while (std::getline(lines, line) && line != "end_header") header.push_back(line);
@@ -518,6 +518,123 @@ TEST_F(Cli, PlyOutputCarriesDistancesAndColours) {
   int faces = 0;
   while (std::getline(lines, line)) faces += line.rfind("3 ", 0) == 0;
   EXPECT_EQ(faces, 8);
+}
+
+// A binary little-endian PLY as .ply writes it: the header, then per vertex float x, y, z, distance
+// (int nearest_source with labels) and uchar red, green, blue, then per face a uchar 3 and three ints.
+struct BinaryPly {
+  std::vector<std::string> header;
+  std::vector<std::array<float, 4>> vertices;  // x, y, z, distance
+  std::vector<std::int32_t> labels;
+  std::vector<std::array<int, 3>> colours;
+  std::vector<std::array<std::int32_t, 3>> faces;
+};
+
+BinaryPly read_binary_ply(const std::string& bytes, std::size_t vertex_count, std::size_t face_count, bool labels) {
+  BinaryPly ply;
+  std::size_t at = 0;
+  while (true) {
+    const std::size_t end = bytes.find('\n', at);
+    if (end == std::string::npos) {
+      ADD_FAILURE() << "no end_header";
+      return ply;
+    }
+    ply.header.push_back(bytes.substr(at, end - at));
+    at = end + 1;
+    if (ply.header.back() == "end_header") break;
+  }
+  const auto u32 = [&] {
+    std::uint32_t bits = 0;
+    for (int byte = 0; byte < 4; ++byte) bits |= std::uint32_t(std::uint8_t(bytes[at++])) << (8 * byte);
+    return bits;
+  };
+  const std::size_t vertex_bytes = 16 + (labels ? 4 : 0) + 3;
+  EXPECT_EQ(bytes.size(), at + vertex_count * vertex_bytes + face_count * 13) << "the file's size";
+  if (bytes.size() != at + vertex_count * vertex_bytes + face_count * 13) return ply;
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    std::array<float, 4> vertex{};
+    for (float& value : vertex) value = std::bit_cast<float>(u32());
+    ply.vertices.push_back(vertex);
+    if (labels) ply.labels.push_back(std::bit_cast<std::int32_t>(u32()));
+    ply.colours.push_back({std::uint8_t(bytes[at]), std::uint8_t(bytes[at + 1]), std::uint8_t(bytes[at + 2])});
+    at += 3;
+  }
+  for (std::size_t f = 0; f < face_count; ++f) {
+    EXPECT_EQ(bytes[at++], 3);
+    std::array<std::int32_t, 3> face{};
+    for (std::int32_t& corner : face) corner = std::bit_cast<std::int32_t>(u32());
+    ply.faces.push_back(face);
+  }
+  return ply;
+}
+
+// .ply is binary: the same mesh, distances (as floats) and colours as .ascii.ply, unreachable vertices grey
+// with distance inf; a quarter of the text's size or less.
+TEST_F(Cli, PlyOutputIsBinaryWithTheAsciiPlysValues) {
+  // Two grids side by side: the second is unreachable from vertex 0.
+  write_file(path("two.obj"),
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nf 1 2 3\nf 2 4 3\nf 5 6 7\n");
+  for (const bool labels : {false, true}) {
+    const std::string flag = labels ? " --labels" : "";
+    for (const char* mesh : {"@torus:24:10", "two.obj"}) {
+      const std::string name = mesh[0] == '@' ? mesh : arg(mesh);
+      ASSERT_EQ(run("distance " + name + " --source 0" + flag + " --out " + arg("d.ply")).exit_code, 0);
+      ASSERT_EQ(run("distance " + name + " --source 0" + flag + " --out " + arg("d.ascii.ply")).exit_code, 0);
+      ASSERT_EQ(run("distance " + name + " --source 0 --out " + arg("d.npy")).exit_code, 0);
+      const std::vector<double> distances = parse_npy(path("d.npy"));
+      const std::size_t n = distances.size();
+      const std::size_t faces = mesh[0] == '@' ? 480 : 3;
+      const BinaryPly ply = read_binary_ply(read_file(path("d.ply")), n, faces, labels);
+      ASSERT_EQ(ply.vertices.size(), n);
+      std::vector<std::string> expected_header = {
+          "ply", "format binary_little_endian 1.0", "comment written by exactgeo: geodesic distance per vertex",
+          "element vertex " + std::to_string(n), "property float x", "property float y", "property float z",
+          "property float distance"};
+      if (labels) expected_header.push_back("property int nearest_source");
+      for (const char* line : {"property uchar red", "property uchar green", "property uchar blue"})
+        expected_header.push_back(line);
+      for (const std::string line : {"element face " + std::to_string(faces), std::string("property list uchar int vertex_indices"),
+                                     std::string("end_header")})
+        expected_header.push_back(line);
+      EXPECT_EQ(ply.header, expected_header);
+      // The text file: positions, distances and colours per vertex line, faces after.
+      std::istringstream text(read_file(path("d.ascii.ply")));
+      std::string line;
+      while (std::getline(text, line) && line != "end_header") {}
+      for (std::size_t v = 0; v < n; ++v) {
+        ASSERT_TRUE(std::getline(text, line));
+        std::istringstream fields(line);
+        double x, y, z;
+        std::string distance;
+        int label = 0, red, green, blue;
+        fields >> x >> y >> z >> distance;
+        if (labels) fields >> label;
+        fields >> red >> green >> blue;
+        ASSERT_TRUE(fields) << line;
+        EXPECT_EQ(ply.vertices[v][0], static_cast<float>(x));
+        EXPECT_EQ(ply.vertices[v][1], static_cast<float>(y));
+        EXPECT_EQ(ply.vertices[v][2], static_cast<float>(z));
+        EXPECT_EQ(ply.vertices[v][3], static_cast<float>(distances[v])) << v;
+        EXPECT_EQ(std::isinf(distances[v]), distance == "inf");
+        if (labels) EXPECT_EQ(ply.labels[v], label);
+        EXPECT_EQ(ply.colours[v], (std::array<int, 3>{red, green, blue})) << v;
+        if (std::isinf(distances[v])) EXPECT_EQ(ply.colours[v], (std::array<int, 3>{128, 128, 128}));
+      }
+      for (std::size_t f = 0; f < faces; ++f) {
+        ASSERT_TRUE(std::getline(text, line));
+        std::array<std::int32_t, 3> face{};
+        int count = 0;
+        std::istringstream(line) >> count >> face[0] >> face[1] >> face[2];
+        EXPECT_EQ(count, 3);
+        EXPECT_EQ(ply.faces[f], face) << f;
+      }
+      if (mesh[0] == '@') EXPECT_LT(read_file(path("d.ply")).size() * 2, read_file(path("d.ascii.ply")).size());
+      // The library reads it back: the same mesh.
+      ASSERT_EQ(run("info " + arg("d.ply") + " --json").exit_code, 0);
+    }
+  }
+  EXPECT_EQ(run("distance @grid:2:2 --source 0 --out " + arg("D.PLY")).exit_code, 0);
+  EXPECT_EQ(read_file(path("D.PLY")).find("format binary_little_endian 1.0"), 4u);
 }
 
 TEST_F(Cli, PathOnAFlatGridIsTheDiagonal) {
@@ -626,6 +743,12 @@ TEST_F(Cli, SampleSpreadsOutFromTheFirstVertex) {
   // The second sample on a sphere is the antipode: half the great circle, a bit less on the polyhedron.
   EXPECT_LT(previous, kInf);
   expect_error(run("sample @icosphere:2 -k 3 --first 9999"), 2, "9999");
+  expect_error(run("sample @icosphere:2 -k 3 --first 1 x"), 1, "'x' is not a vertex index");
+  // Several first samples, taken in their order, MESH before or after.
+  const RunResult seeded = run("sample --first 7 3 @icosphere:2 -k 4");
+  ASSERT_EQ(seeded.exit_code, 0) << seeded.err;
+  EXPECT_EQ(seeded.out.rfind("7\n3\n", 0), 0u) << seeded.out;
+  EXPECT_EQ(run("sample @icosphere:2 -k 4 --first 7 --first 3").out, seeded.out);
   expect_error(run("sample @icosphere:2 -k -1"), 1, "-1");  // not every vertex, as a wrapped count would give
   expect_error(run("sample @icosphere:2 -k 3 --out " + arg("s.ply")), 1, "s.ply");  // not text under a .ply name
   expect_error(run("matrix @icosphere:2 --sources 1 --threads -2 --out " + arg("m.npy")), 1, "-2");
@@ -715,6 +838,137 @@ TEST_F(Cli, MatrixReadsTheSamplesThatSampleWrites) {
   EXPECT_EQ(read_file(path("from-csv.npy")), read_file(path("from-txt.npy")));
   write_file(path("bad.csv"), "sample,vertex,radius\n0,0,inf\n1,x,2\n");
   expect_error(run("matrix @icosphere:2 --sources " + arg("bad.csv") + " --out " + arg("m.npy")), 2, "line 3: 'x'");
+}
+
+// --source, --source-point, --targets and matrix's --sources and --targets take several values, or repeat;
+// MESH may come before them or after.
+TEST_F(Cli, ListOptionsTakeSeveralValuesOrRepeat) {
+  ASSERT_EQ(run("distance @torus:24:10 --source 0 --source 111 --labels --out " + arg("repeated.npy")).exit_code, 0);
+  for (const std::string form : {"@torus:24:10 --source 0 111 --labels --out " + arg("x.npy"),
+                                 "--source 0 111 @torus:24:10 --labels --out " + arg("x.npy"),
+                                 "--labels --source 0 111 @torus:24:10 --out " + arg("x.npy")}) {
+    const RunResult result = run("distance " + form);
+    ASSERT_EQ(result.exit_code, 0) << form << ": " << result.err;
+    EXPECT_EQ(read_file(path("x.npy")), read_file(path("repeated.npy"))) << form;
+  }
+  // Points and targets the same way.
+  const std::string points = "--source-point 3:0.2,0.3,0.5 17:0.1,0.1,0.8";
+  ASSERT_EQ(run("distance @torus:24:10 " + points + " --targets 5 6,7 --target-out " + arg("a.csv")).exit_code, 0);
+  ASSERT_EQ(run("distance @torus:24:10 --source-point 3:0.2,0.3,0.5 --source-point 17:0.1,0.1,0.8 --targets '5 6,7' "
+                "--target-out " + arg("b.csv")).exit_code, 0);
+  ASSERT_EQ(run("distance " + points + " --targets 5 6 7 @torus:24:10 --target-out " + arg("c.csv")).exit_code, 0);
+  EXPECT_EQ(read_file(path("a.csv")), read_file(path("b.csv")));
+  EXPECT_EQ(read_file(path("a.csv")), read_file(path("c.csv")));
+  // path and matrix.
+  ASSERT_EQ(run("path @grid:4:4 --source 0 24 --target 12 --out " + arg("p1.json")).exit_code, 0);
+  ASSERT_EQ(run("path --source 0 --source 24 @grid:4:4 --target 12 --out " + arg("p2.json")).exit_code, 0);
+  EXPECT_EQ(read_file(path("p1.json")), read_file(path("p2.json")));
+  ASSERT_EQ(run("matrix @icosphere:2 --sources 0 5 --sources 9 --out " + arg("m1.npy")).exit_code, 0);
+  ASSERT_EQ(run("matrix --sources 0,5 9 @icosphere:2 --out " + arg("m2.npy")).exit_code, 0);
+  EXPECT_EQ(read_file(path("m1.npy")), read_file(path("m2.npy")));
+  // Still errors: no MESH, a value that is not a vertex.
+  expect_error(run("distance --source 0 111"), 1, "MESH");
+  expect_error(run("distance @grid:4:4 --source 0 x"), 1, "'x' is not a vertex index");
+  expect_error(run("distance @grid:4:4 --source-point 0:1,0,0 9"), 1, "'9' is not a surface point");
+  expect_error(run("distance @nothing --source 0"), 1, "unknown built-in mesh");
+  expect_error(run("matrix @grid:4:4 --out " + arg("m.npy")), 1, "--sources");
+}
+
+// --out - writes CSV to stdout, with nothing else on it: the summary is left out, messages and progress go
+// to stderr. Every command with a CSV format takes it.
+TEST_F(Cli, OutDashWritesCsvToStdoutAlone) {
+  ASSERT_EQ(run("distance @icosphere:2 --source 3 --labels --out " + arg("d.csv")).exit_code, 0);
+  RunResult result = run("distance @icosphere:2 --source 3 --labels --out -");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, read_file(path("d.csv")));
+  EXPECT_EQ(result.err, "");
+  ASSERT_EQ(run("distance @icosphere:2 --source 3 --targets 5 9 --target-out " + arg("t.csv")).exit_code, 0);
+  result = run("distance @icosphere:2 --source 3 --targets 5 9 --target-out -");
+  EXPECT_EQ(result.out, read_file(path("t.csv")));
+  for (const std::string command : {"matrix @icosphere:2 --sources 0 5 --targets 7 9 --out ", "sample @icosphere:2 -k 4 --out ",
+                                     "path @grid:4:4 --source 0 --target 24 --out "}) {
+    ASSERT_EQ(run(command + arg("x.csv")).exit_code, 0) << command;
+    result = run(command + "-");
+    ASSERT_EQ(result.exit_code, 0) << command << result.err;
+    EXPECT_EQ(result.out, read_file(path("x.csv"))) << command;
+    EXPECT_EQ(result.err, "") << command;
+  }
+  // Through a pipe, as a shell script uses it: the farthest vertex, and no stray output file named "-".
+  const std::string pipeline = "cd '" + path("").string() + "' && '" EXACTGEO_CLI_PATH
+                               "' distance @icosphere:2 --source 3 --out - 2>err | tail -n +2 | sort -t, -k2 -g | tail -1 >farthest";
+  ASSERT_EQ(std::system(pipeline.c_str()), 0);
+  EXPECT_EQ(read_file(path("err")), "");
+  const std::string farthest = read_file(path("farthest"));
+  ASSERT_EQ(run("distance @icosphere:2 --source 3 --out " + arg("plain.csv")).exit_code, 0);
+  const std::vector<double> d = parse_csv(path("plain.csv"));
+  EXPECT_EQ(std::strtod(farthest.c_str() + farthest.find(',') + 1, nullptr), *std::max_element(d.begin(), d.end()));
+  EXPECT_FALSE(fs::exists(path("-")));
+  // Binary formats need a file; two outputs cannot share stdout.
+  expect_error(run("distance @icosphere:2 --source 3 --out - --target-out - --targets 5"), 1, "both");
+  expect_error(run("matrix @icosphere:2 --sources 0 --out x.npz -"), 1, "");
+}
+
+// matrix --targets: the targets' columns of the full matrix, bit for bit; the .npz names the rows' and
+// columns' vertices; targets come from lists, files, or sample's CSV.
+TEST_F(Cli, MatrixTargetsAreColumnsOfTheFullMatrix) {
+  const std::vector<std::uint32_t> sources = {0, 17, 200, 5};
+  const std::vector<std::uint32_t> targets = {33, 2, 17, 100};
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 17 200 5 --out " + arg("full.npy")).exit_code, 0);
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 17 200 5 --targets 33,2 17 --targets 100 --threads 2 --out " +
+                arg("block.npy")).exit_code, 0);
+  const std::size_t n = 240;
+  const std::vector<double> full = parse_npy_matrix(path("full.npy"), sources.size(), n);
+  const std::vector<double> block = parse_npy_matrix(path("block.npy"), sources.size(), targets.size());
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(block[i * targets.size() + t]),
+                std::bit_cast<std::uint64_t>(full[i * n + targets[t]])) << i << " " << t;
+  // CSV: row and column numbers.
+  const RunResult csv = run("matrix @torus:24:10 --sources 0 17 200 5 --targets 33 2 17 100 --max-distance 2 --out -");
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  std::istringstream rows(csv.out);
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "source,target,distance");
+  while (std::getline(rows, line)) {
+    std::size_t source = 0, target = 0;
+    double d = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%zu,%zu,%lf", &source, &target, &d), 3) << line;
+    EXPECT_EQ(d, full[source * n + targets[target]]) << line;
+    EXPECT_LE(d, 2);
+  }
+  // .npz: the CSR members, sources, and targets only when given.
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 17 --targets 33 2 --out " + arg("t.npz")).exit_code, 0);
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 17 --out " + arg("s.npz")).exit_code, 0);
+  EXPECT_NE(read_file(path("t.npz")).find("sources.npy"), std::string::npos);
+  EXPECT_NE(read_file(path("t.npz")).find("targets.npy"), std::string::npos);
+  EXPECT_NE(read_file(path("s.npz")).find("sources.npy"), std::string::npos);
+  EXPECT_EQ(read_file(path("s.npz")).find("targets.npy"), std::string::npos);
+  // sample's CSV as targets.
+  ASSERT_EQ(run("sample @torus:24:10 -k 4 --out " + arg("s.csv")).exit_code, 0);
+  ASSERT_EQ(run("sample @torus:24:10 -k 4 --out " + arg("s.txt")).exit_code, 0);
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 --targets " + arg("s.csv") + " --out " + arg("a.npy")).exit_code, 0);
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 --targets " + arg("s.txt") + " --out " + arg("b.npy")).exit_code, 0);
+  EXPECT_EQ(read_file(path("a.npy")), read_file(path("b.npy")));
+  expect_error(run("matrix @torus:24:10 --sources 0 --targets 3,99999 --out " + arg("m.npy")), 2, "99999");
+  EXPECT_FALSE(fs::exists(path("m.npy")));
+}
+
+// --targets-beyond exact: targets beyond --max-distance get their exact distance (as gdist and pygeodesic
+// answer), vertices beyond it still inf; the default gives them inf.
+TEST_F(Cli, TargetsBeyondTheCutOff) {
+  const std::string run_base = "distance @grid:8:8 --source 0 --targets 10 80 --max-distance 3";
+  ASSERT_EQ(run(run_base + " --target-out " + arg("inf.csv")).exit_code, 0);
+  ASSERT_EQ(run(run_base + " --targets-beyond exact --target-out " + arg("exact.csv") + " --out " + arg("d.npy")).exit_code, 0);
+  EXPECT_EQ(read_file(path("inf.csv")), "target,distance\n0,1.4142135623730951\n1,inf\n");
+  EXPECT_EQ(read_file(path("exact.csv")), "target,distance\n0,1.4142135623730951\n1,11.313708498984759\n");
+  const std::vector<double> d = parse_npy(path("d.npy"));
+  for (std::size_t v = 0; v < d.size(); ++v) {
+    const double truth = std::hypot(double(v % 9), double(v / 9));
+    if (truth <= 3) EXPECT_NEAR(d[v], truth, 1e-12) << v;
+    else EXPECT_TRUE(std::isinf(d[v])) << v;
+  }
+  expect_error(run(run_base + " --targets-beyond sometimes"), 1, "sometimes");
 }
 
 TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {

@@ -49,6 +49,95 @@ TEST(DistanceMatrix, ThreadsAreCappedAtTheWorkAvailable) {
   EXPECT_EQ(capped, exactgeo::distance_matrix(mesh, sources, {.geodesic = {}, .threads = 1}));
 }
 
+// A sources x targets block: the targets' columns of the full matrix, bit for bit, in the targets' order
+// (repeats and unsorted allowed), dense and sparse, with and without a cut-off, for any thread count.
+TEST(DistanceMatrix, TargetColumnsAreTheFullMatrixColumns) {
+  const Mesh& mesh = torus();
+  const std::vector<std::uint32_t> sources = {0, 17, 200, 333, 5};
+  const std::vector<std::uint32_t> targets = {90, 3, 17, 90, 250, 0};
+  const std::size_t n = mesh.vertex_count();
+  for (const double cutoff : {HUGE_VAL, 1.0}) {
+    const exactgeo::GeodesicOptions geodesic{.max_distance = cutoff};
+    const std::vector<double> full = exactgeo::distance_matrix(mesh, sources, {.geodesic = geodesic, .threads = 1});
+    for (unsigned threads : {1u, 2u}) {
+      const MatrixOptions options{.geodesic = geodesic, .threads = threads, .block_rows = 2, .target_vertices = targets};
+      const std::vector<double> block = exactgeo::distance_matrix(mesh, sources, options);
+      ASSERT_EQ(block.size(), sources.size() * targets.size());
+      std::size_t finite = 0;
+      for (std::size_t i = 0; i < sources.size(); ++i)
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+          ASSERT_EQ(std::bit_cast<std::uint64_t>(block[i * targets.size() + t]),
+                    std::bit_cast<std::uint64_t>(full[i * n + targets[t]]))
+              << "cut-off " << cutoff << " row " << i << " target " << t;
+          finite += std::isfinite(block[i * targets.size() + t]);
+        }
+      if (std::isinf(cutoff)) EXPECT_EQ(finite, block.size());
+      else EXPECT_LT(finite, block.size()) << "the cut-off leaves some targets out";
+      const exactgeo::SparseDistances sparse = exactgeo::sparse_distance_matrix(mesh, sources, options);
+      EXPECT_EQ(sparse.rows, sources.size());
+      EXPECT_EQ(sparse.columns, targets.size());
+      ASSERT_EQ(sparse.distance.size(), finite);
+      for (std::size_t k = 0; k < finite; ++k)
+        EXPECT_EQ(sparse.distance[k], block[sparse.row[k] * targets.size() + sparse.column[k]]);
+    }
+  }
+}
+
+// Two grids touching at one corner: the mesh splits that vertex into two copies. A target there reads the
+// nearer copy, as the full matrix's column does.
+TEST(DistanceMatrix, TargetColumnsAtASplitVertexAreTheFullMatrixColumns) {
+  exactgeo::MeshSoup soup = exactgeo::make_grid(3, 3, 3, 3);
+  const std::uint32_t pinch = exactgeo_test::vertex_at(soup, {3, 3, 0});
+  const exactgeo::MeshSoup other = exactgeo::make_grid(3, 3, 3, 3);
+  std::vector<std::uint32_t> index(exactgeo_test::vertex_count(other));
+  for (std::uint32_t v = 0; v < index.size(); ++v) {
+    const exactgeo_test::Vec3 p = exactgeo_test::vertex_position(other, v);
+    index[v] = v == 0 ? pinch : exactgeo_test::add_vertex(soup, {p[0] + 3, p[1] + 3, p[2] + 0.5 * p[0]});
+  }
+  for (std::size_t f = 0; f < exactgeo_test::face_count(other); ++f)
+    exactgeo_test::add_triangle(soup, index[other.triangles[3 * f]], index[other.triangles[3 * f + 1]],
+                                index[other.triangles[3 * f + 2]]);
+  const Mesh mesh(soup);
+  ASSERT_EQ(mesh.report().non_manifold_vertices, 1u);
+  const std::vector<std::uint32_t> sources = {0, pinch, index[5], 7};
+  const std::vector<std::uint32_t> targets = {pinch, index[15], 2, index[3]};
+  const std::vector<double> full = exactgeo::distance_matrix(mesh, sources);
+  MatrixOptions options;
+  options.target_vertices = targets;
+  const std::vector<double> block = exactgeo::distance_matrix(mesh, sources, options);
+  const std::size_t n = mesh.vertex_count();
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(block[i * targets.size() + t]), std::bit_cast<std::uint64_t>(full[i * n + targets[t]]))
+          << "row " << i << " target " << t;
+}
+
+// Each run stops once its targets are final: a near target costs a fraction of a full row.
+TEST(DistanceMatrix, NearTargetsStopTheRunsEarly) {
+  const Mesh mesh(exactgeo::make_grid(60, 60, 60, 60));
+  const std::vector<std::uint32_t> source = {0};
+  exactgeo::GeodesicSolver solver(mesh);
+  const std::uint64_t pops_all = solver.solve(source).stats.vertex_pops;
+  const std::uint64_t pops_near = solver.solve(source, std::vector{exactgeo::vertex_point(mesh, 62)}).stats.vertex_pops;
+  EXPECT_LT(pops_near * 20, pops_all);
+  MatrixOptions options;
+  options.target_vertices = {62};
+  const std::vector<double> near = exactgeo::distance_matrix(mesh, source, options);
+  ASSERT_EQ(near.size(), 1u);
+  EXPECT_NEAR(near[0], std::sqrt(2.0), 1e-12);
+}
+
+TEST(DistanceMatrix, BadOrNoTargets) {
+  const Mesh& mesh = torus();
+  const std::vector<std::uint32_t> sources = {0, 1};
+  MatrixOptions options;
+  options.target_vertices = {1, 99999};
+  EXPECT_THROW(exactgeo::distance_matrix(mesh, sources, options), exactgeo::Error);
+  options.target_vertices = std::vector<std::uint32_t>{};
+  EXPECT_TRUE(exactgeo::distance_matrix(mesh, sources, options).empty());
+  EXPECT_EQ(exactgeo::sparse_distance_matrix(mesh, sources, options).columns, 0u);
+}
+
 TEST(DistanceMatrix, IsSymmetricBetweenSources) {
   const Mesh& mesh = torus();
   const std::vector<std::uint32_t> sources = {3, 77, 150, 290};

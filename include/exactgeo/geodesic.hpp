@@ -191,7 +191,9 @@ class EXACTGEO_API GeodesicSolver {
 
   // Propagates from the sources; each input vertex gets the distance to the nearest one. With targets,
   // their distances are computed too and the propagation stops as soon as they are final: vertex distances
-  // are then exact up to the farthest target and +inf beyond. Throws exactgeo::Error(invalid_argument)
+  // are then exact up to the farthest target and +inf beyond. max_distance cuts targets off like vertices
+  // (+inf beyond it; the run stops there); without it every target gets its exact distance, however far
+  // (what gdist and pygeodesic return whatever their max_distance). Throws exactgeo::Error(invalid_argument)
   // naming the offending source, target or option.
   const GeodesicResult& solve(std::span<const SurfacePoint> sources, std::span<const SurfacePoint> targets = {},
                               const GeodesicOptions& options = {});

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -18,17 +19,23 @@ struct MatrixOptions {
   GeodesicOptions geodesic;    // per-source options; max_distance gives a sparse (cut-off) matrix
   unsigned threads = 0;        // worker threads; 0: one per core
   std::size_t block_rows = 0;  // rows computed before they are handed over; 0: 4 per thread
+  // The columns: these input vertices, in their order (a sources x targets block; each run stops as soon as
+  // they are final, so nearby targets cost a fraction of a full row). Unset: every input vertex. A column
+  // holds the same values as that vertex's column of the full matrix, bit for bit; with max_distance,
+  // targets beyond it are +inf like any vertex (run without max_distance to have them all).
+  std::optional<std::vector<std::uint32_t>> target_vertices{};
 };
 
 // Calls `consume(first_row, rows)` for consecutive blocks of rows, in order: row i holds the distances from
-// source_vertices[i] to every input vertex (+inf where unreachable or beyond max_distance), rows back to
-// back. At most one block is held in memory, so any number of sources fits. `consume` runs on the calling
-// thread. Throws exactgeo::Error(invalid_argument) for an invalid source or option before any work.
+// source_vertices[i] to every input vertex, or to each of options.target_vertices (+inf where unreachable or
+// beyond max_distance), rows back to back. At most one block is held in memory, so any number of sources
+// fits. `consume` runs on the calling thread. Throws exactgeo::Error(invalid_argument) for an invalid
+// source, target or option before any work.
 EXACTGEO_API void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                              const MatrixOptions& options,
                              const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume);
 
-// The whole matrix, sources x vertices, row-major.
+// The whole matrix, sources x vertices (or x target_vertices), row-major.
 EXACTGEO_API std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                     const MatrixOptions& options = {});
 

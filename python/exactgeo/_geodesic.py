@@ -38,6 +38,16 @@ class AlgorithmOptions(TypedDict, total=False):
 
 _OPTION_NAMES = frozenset(AlgorithmOptions.__annotations__)
 
+TargetsBeyond = Literal["inf", "exact"]
+
+
+def exact_targets(targets_beyond: str, has_targets: bool, max_distance: float | None) -> bool:
+    """Whether a run with targets goes on past `max_distance` until every target is final
+    (targets_beyond="exact"), the cut-off then applying to the vertex distances alone."""
+    if targets_beyond not in ("inf", "exact"):
+        raise ValueError(f"targets_beyond must be 'inf' or 'exact', not {targets_beyond!r}")
+    return targets_beyond == "exact" and has_targets and max_distance is not None
+
 
 def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _core.GeodesicOptions:
     unknown = sorted(options.keys() - _OPTION_NAMES)
@@ -111,6 +121,7 @@ class GeodesicSolver:
         targets: Sites | None = None,
         *,
         max_distance: float | None = None,
+        targets_beyond: TargetsBeyond = "inf",
         progress: Progress = None,
         **options: Unpack[AlgorithmOptions],
     ) -> GeodesicResult:
@@ -121,11 +132,16 @@ class GeodesicSolver:
         surface copies (non-manifold) is a source at each, so sources are either all vertices or all points.
         Targets may mix the two: a vertex target is the point at the vertex on its first face. With targets,
         the run stops as soon as they are final: vertex distances are then exact up to the farthest target
-        and inf beyond. `max_distance`: nothing farther is computed (inf). `progress`: True for a tqdm bar,
-        or a function called with (thousandths of the mesh passed, 1000). Ctrl-C stops a run on a large
-        mesh within milliseconds.
+        and inf beyond. `max_distance`: nothing farther is computed (inf), targets included: the run stops
+        at the cut-off. `targets_beyond="exact"` answers every target exactly instead, as gdist and
+        pygeodesic do: the run goes on until every target is final, and the cut-off applies to the vertex
+        distances alone (inf beyond it). `progress`: True for a tqdm bar, or a function called with
+        (thousandths of the mesh passed, 1000). Ctrl-C stops a run on a large mesh within milliseconds.
         """
-        config = geodesic_options(max_distance, {"threads": _core.recommended_threads(self._mesh._core), **options})
+        exact = exact_targets(targets_beyond, targets is not None, max_distance)
+        config = geodesic_options(
+            None if exact else max_distance, {"threads": _core.recommended_threads(self._mesh._core), **options}
+        )
         ends = _NO_TARGETS if targets is None else target_points(targets, self._mesh)
         starts = source_sites(sources, self._mesh)
 
@@ -137,6 +153,10 @@ class GeodesicSolver:
             return self._core.solve_from_vertices(starts, ends.faces, ends.barycentric, config, reporter)
 
         *arrays, self._last_run.number = run_with_progress(progress, "distances", 1000, run)
+        if exact:
+            beyond = arrays[0] > max_distance
+            arrays[0] = np.where(beyond, np.inf, arrays[0])
+            arrays[1] = np.where(beyond, -1, arrays[1])
         result = GeodesicResult(*arrays)
         if targets is None and max_distance is None:
             _warn_if_seams_cut_the_surface(self._mesh, result.distances)
@@ -179,6 +199,7 @@ def distance(
     *,
     targets: Sites | None = None,
     max_distance: float | None = None,
+    targets_beyond: TargetsBeyond = "inf",
     return_nearest: Literal[False] = False,
     progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
@@ -190,6 +211,7 @@ def distance(
     *,
     targets: Sites | None = None,
     max_distance: float | None = None,
+    targets_beyond: TargetsBeyond = "inf",
     return_nearest: Literal[True],
     progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
@@ -200,6 +222,7 @@ def distance(
     *,
     targets: Sites | None = None,
     max_distance: float | None = None,
+    targets_beyond: TargetsBeyond = "inf",
     return_nearest: bool = False,
     progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
@@ -209,10 +232,14 @@ def distance(
     Without `targets`, one distance per input vertex. With `targets` (vertex indices or surface points),
     one distance per target, in their order; the run stops as soon as they are final, so a few nearby
     targets cost a fraction of a full run. `return_nearest=True` also returns, per vertex or target, the
-    index of the nearest source (int64, -1 where the distance is inf). See GeodesicSolver.solve for the
-    forms sources and targets take, and for `progress`.
+    index of the nearest source (int64, -1 where the distance is inf). `max_distance`: inf beyond it,
+    targets too; with `targets_beyond="exact"` every target gets its exact distance whatever the cut-off
+    (what gdist and pygeodesic return). See GeodesicSolver.solve for the forms sources and targets take,
+    and for `progress`.
     """
-    result = GeodesicSolver(mesh).solve(sources, targets, max_distance=max_distance, progress=progress, **options)
+    result = GeodesicSolver(mesh).solve(
+        sources, targets, max_distance=max_distance, targets_beyond=targets_beyond, progress=progress, **options
+    )
     if targets is None:
         values, nearest = result.distances, result.nearest_source
     else:

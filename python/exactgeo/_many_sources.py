@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, overload
 import numpy as np
 
 from . import _core, _inputs
-from ._geodesic import AlgorithmOptions, geodesic_options
+from ._geodesic import AlgorithmOptions, TargetsBeyond, exact_targets, geodesic_options
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
 from ._surface_point import VertexIndices
@@ -23,7 +23,9 @@ def distance_matrix(
     mesh: Mesh,
     sources: VertexIndices,
     *,
+    targets: VertexIndices | None = None,
     max_distance: None = None,
+    targets_beyond: TargetsBeyond = "inf",
     threads: int | None = None,
     progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
@@ -33,7 +35,9 @@ def distance_matrix(
     mesh: Mesh,
     sources: VertexIndices,
     *,
+    targets: VertexIndices | None = None,
     max_distance: float,
+    targets_beyond: TargetsBeyond = "inf",
     threads: int | None = None,
     progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
@@ -42,17 +46,26 @@ def distance_matrix(
     mesh: Mesh,
     sources: VertexIndices,
     *,
+    targets: VertexIndices | None = None,
     max_distance: float | None = None,
+    targets_beyond: TargetsBeyond = "inf",
     threads: int | None = None,
     progress: Progress = None,
     **options: Unpack[AlgorithmOptions],
 ) -> np.ndarray | csr_array:
-    """Distances from each source vertex (rows) to every input vertex (columns).
+    """Distances from each source vertex (rows) to every input vertex (columns), or to `targets`.
 
-    Without `max_distance`: a dense (sources, vertex_count) float64 ndarray, inf where unreachable. With it:
-    a scipy.sparse.csr_array holding the distances up to `max_distance` (the 0 at each source included, as
+    Row i is `sources[i]`, in the order given. With `targets` (vertex indices), column j is `targets[j]`: a
+    (sources, targets) block holding exactly those columns of the full matrix, and each run stops as soon
+    as the targets are final, so nearby targets cost a fraction of a full row. The caller has the row and
+    column vertices already (the command line's .npz stores them as `sources` and `targets`).
+
+    Without `max_distance`: a dense float64 ndarray, inf where unreachable. With it: a
+    scipy.sparse.csr_array holding the distances up to `max_distance` (the 0 at each source included, as
     an explicit entry); entries not stored are beyond the cut-off or unreachable. Each run stops at the
-    cut-off, so a small radius costs a fraction of the dense matrix.
+    cut-off, so a small radius costs a fraction of the dense matrix. `targets_beyond="exact"` stores every
+    reachable target's exact distance however far (runs go on until the targets are final), as gdist's
+    distance_matrix_of_selected_points does.
 
     One source per thread, `threads` of them (default: one per core, never more than the sources), with the
     GIL released; rows are identical whatever the thread count. `progress`: True for a tqdm bar, or a
@@ -60,20 +73,34 @@ def distance_matrix(
     """
     mesh = checked_mesh(mesh)
     vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
-    config = geodesic_options(max_distance, options)
+    columns = (
+        np.empty(0, dtype=np.uint32)
+        if targets is None
+        else _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
+    )
+    exact = exact_targets(targets_beyond, targets is not None, max_distance)
+    config = geodesic_options(None if exact else max_distance, options)
     workers = 0 if threads is None else _inputs.count(threads, "threads", minimum=1, maximum=2**32 - 1)
+    has_targets = targets is not None
+    width = len(columns) if has_targets else mesh.vertex_count
     if max_distance is None:
         return run_with_progress(
-            progress, "rows", len(vertices), lambda r: _core.distance_matrix(mesh._core, vertices, config, workers, r)
+            progress,
+            "rows",
+            len(vertices),
+            lambda r: _core.distance_matrix(mesh._core, vertices, columns, has_targets, config, workers, r),
         )
     try:
         import scipy.sparse
     except ImportError:
         raise ImportError("a distance matrix with max_distance is a scipy.sparse matrix: pip install scipy") from None
-    values, columns, row_offsets = run_with_progress(
-        progress, "rows", len(vertices), lambda r: _core.sparse_distance_matrix(mesh._core, vertices, config, workers, r)
+    values, indices, row_offsets = run_with_progress(
+        progress,
+        "rows",
+        len(vertices),
+        lambda r: _core.sparse_distance_matrix(mesh._core, vertices, columns, has_targets, config, workers, r),
     )
-    return scipy.sparse.csr_array((values, columns, row_offsets), shape=(len(vertices), mesh.vertex_count))
+    return scipy.sparse.csr_array((values, indices, row_offsets), shape=(len(vertices), width))
 
 
 @dataclasses.dataclass(frozen=True)

@@ -530,39 +530,51 @@ NB_MODULE(_core, m) {
           },
           "target"_a, "run"_a);
 
+  // Matrix options from the arguments: columns are the targets when has_targets, else every vertex.
+  const auto matrix_options = [](const exactgeo::GeodesicOptions& options, unsigned threads, const IndexArray& targets,
+                                 bool has_targets) {
+    exactgeo::MatrixOptions matrix{.geodesic = options, .threads = threads};
+    if (has_targets) matrix.target_vertices.emplace(span_of(targets).begin(), span_of(targets).end());
+    return matrix;
+  };
+
   m.def(
       "distance_matrix",
-      [](const exactgeo::Mesh& mesh, const IndexArray& sources, exactgeo::GeodesicOptions options, unsigned threads,
-         const nb::object& progress) {
-        const std::size_t columns = mesh.vertex_count();
+      [matrix_options](const exactgeo::Mesh& mesh, const IndexArray& sources, const IndexArray& targets,
+                       bool has_targets, exactgeo::GeodesicOptions options, unsigned threads,
+                       const nb::object& progress) {
+        const std::size_t columns = has_targets ? targets.shape(0) : mesh.vertex_count();
         std::vector<double> matrix = run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
           options.stop = stop;
           counter.total = sources.shape(0);
           std::vector<double> rows(sources.shape(0) * columns);
-          exactgeo::for_each_distance_block(mesh, span_of(sources), {.geodesic = options, .threads = threads},
+          exactgeo::for_each_distance_block(mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
                                             [&](std::size_t first, std::span<const double> block) {
                                               std::copy(block.begin(), block.end(), rows.begin() + first * columns);
-                                              counter.done = first + block.size() / columns;
+                                              counter.done = first + (columns ? block.size() / columns : 0);
                                             });
           return rows;
         });
         return to_numpy(std::move(matrix), {sources.shape(0), columns});
       },
-      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a, "progress"_a.none());
+      "mesh"_a, "sources"_a.noconvert(), "targets"_a.noconvert(), "has_targets"_a, "options"_a, "threads"_a,
+      "progress"_a.none());
 
   // The finite entries as compressed sparse rows: values, column indices and row offsets.
   m.def(
       "sparse_distance_matrix",
-      [](const exactgeo::Mesh& mesh, const IndexArray& sources, exactgeo::GeodesicOptions options, unsigned threads,
-         const nb::object& progress) {
-        const std::size_t rows = sources.shape(0), columns = mesh.vertex_count();
+      [matrix_options](const exactgeo::Mesh& mesh, const IndexArray& sources, const IndexArray& targets,
+                       bool has_targets, exactgeo::GeodesicOptions options, unsigned threads,
+                       const nb::object& progress) {
+        const std::size_t rows = sources.shape(0), columns = has_targets ? targets.shape(0) : mesh.vertex_count();
         std::vector<double> values;
         std::vector<std::uint32_t> column_indices;
         std::vector<std::int64_t> row_offsets = {0};
         run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
           options.stop = stop;
           counter.total = rows;
-          exactgeo::for_each_distance_block(mesh, span_of(sources), {.geodesic = options, .threads = threads},
+          if (columns == 0) row_offsets.assign(rows + 1, 0);  // no entries, and no block to count rows in
+          exactgeo::for_each_distance_block(mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
                                             [&](std::size_t first, std::span<const double> block) {
                                               for (std::size_t i = 0; i < block.size(); ++i) {
                                                 if (!std::isinf(block[i])) {
@@ -571,7 +583,7 @@ NB_MODULE(_core, m) {
                                                 }
                                                 if ((i + 1) % columns == 0) row_offsets.push_back(std::int64_t(values.size()));
                                               }
-                                              counter.done = first + block.size() / columns;
+                                              counter.done = first + (columns ? block.size() / columns : 0);
                                             });
           return true;
         });
@@ -579,7 +591,8 @@ NB_MODULE(_core, m) {
         return std::make_tuple(to_numpy(std::move(values), {entries}), to_numpy(std::move(column_indices), {entries}),
                                to_numpy(std::move(row_offsets), {rows + 1}));
       },
-      "mesh"_a, "sources"_a.noconvert(), "options"_a, "threads"_a, "progress"_a.none());
+      "mesh"_a, "sources"_a.noconvert(), "targets"_a.noconvert(), "has_targets"_a, "options"_a, "threads"_a,
+      "progress"_a.none());
 
   m.def(
       "farthest_point_sampling",

@@ -364,3 +364,26 @@ def test_the_gil_is_released_while_propagating():
     assert pause < duration / 3, (duration, pause)
     duration, pause = longest_pause_of_python_while(lambda: exactgeo.distance_matrix(big, [0, 5000, 20000], threads=1))
     assert pause < duration / 3, (duration, pause)
+
+
+def test_targets_beyond_the_cut_off_are_inf_or_exact():
+    mesh = exactgeo.Mesh(*bumpy_sheet(12))
+    targets = [5, 168, 30, 100]
+    truth = exactgeo.distance(mesh, 0)[targets]
+    cutoff = float(np.median(truth))
+    beyond = truth > cutoff
+    cut = exactgeo.distance(mesh, 0, targets=targets, max_distance=cutoff)
+    np.testing.assert_array_equal(np.isinf(cut), beyond)
+    np.testing.assert_array_equal(cut[~beyond], truth[~beyond])
+    exact, nearest = exactgeo.distance(
+        mesh, 0, targets=targets, max_distance=cutoff, targets_beyond="exact", return_nearest=True
+    )
+    np.testing.assert_array_equal(exact, truth)
+    assert nearest.tolist() == [0] * len(targets)
+    # Without targets or without a cut-off the option changes nothing.
+    np.testing.assert_array_equal(
+        exactgeo.distance(mesh, 0, max_distance=cutoff, targets_beyond="exact"), exactgeo.distance(mesh, 0, max_distance=cutoff)
+    )
+    np.testing.assert_array_equal(exactgeo.distance(mesh, 0, targets=targets, targets_beyond="exact"), truth)
+    with pytest.raises(ValueError, match="targets_beyond must be 'inf' or 'exact', not 'all'"):
+        exactgeo.distance(mesh, 0, targets=targets, max_distance=cutoff, targets_beyond="all")

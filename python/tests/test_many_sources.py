@@ -115,3 +115,54 @@ def test_counts_out_of_range_are_named(sheet):
         exactgeo.farthest_point_sampling(sheet, 2**70)
     with pytest.raises(ValueError, match="count must be at least 0, not -1"):
         exactgeo.farthest_point_sampling(sheet, -1)
+
+
+TARGETS = [40, 3, 13, 168, 40, 0]
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_target_columns_are_the_full_matrix_columns(sheet, threads):
+    full = exactgeo.distance_matrix(sheet, SOURCES)
+    block = exactgeo.distance_matrix(sheet, SOURCES, targets=TARGETS, threads=threads)
+    assert block.shape == (len(SOURCES), len(TARGETS)) and block.dtype == np.float64
+    np.testing.assert_array_equal(block, full[:, TARGETS])  # bit for bit: the same runs, stopped early
+    # Sparse with a cut-off: the targets' columns of the sparse full matrix.
+    sparse_full = exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.5)
+    sparse = exactgeo.distance_matrix(
+        sheet, SOURCES, targets=np.array(TARGETS, dtype=np.int16), max_distance=0.5, threads=threads
+    )
+    assert isinstance(sparse, scipy.sparse.csr_array) and sparse.shape == (len(SOURCES), len(TARGETS))
+    assert 0 < sparse.nnz < block.size
+    assert (sparse != sparse_full[:, TARGETS]).nnz == 0
+    assert sparse.nnz == (full[:, TARGETS] <= 0.5).sum()
+    # targets_beyond="exact": every target stored, however far (gdist's distance_matrix_of_selected_points).
+    exact = exactgeo.distance_matrix(sheet, SOURCES, targets=TARGETS, max_distance=0.5, targets_beyond="exact")
+    assert exact.nnz == block.size
+    np.testing.assert_array_equal(exact.toarray(), block)
+
+
+def test_no_targets_and_bad_targets(sheet):
+    assert exactgeo.distance_matrix(sheet, SOURCES, targets=[]).shape == (len(SOURCES), 0)
+    assert exactgeo.distance_matrix(sheet, SOURCES, targets=[], max_distance=1).shape == (len(SOURCES), 0)
+    with pytest.raises(ValueError, match="169"):
+        exactgeo.distance_matrix(sheet, SOURCES, targets=[0, 169])
+    with pytest.raises(ValueError, match="targets_beyond must be 'inf' or 'exact'"):
+        exactgeo.distance_matrix(sheet, SOURCES, targets=[0], max_distance=1, targets_beyond="approximate")
+
+
+def test_the_command_lines_npz_names_its_rows_and_columns(sheet, tmp_path):
+    from conftest import CLI, run_cli, write_obj
+
+    if not CLI.is_file():
+        pytest.skip(f"command-line tool not built at {CLI}")
+    mesh_file = write_obj(tmp_path / "sheet.obj", sheet.vertices, sheet.faces)
+    out = tmp_path / "m.npz"
+    run_cli("matrix", mesh_file, "--sources", *SOURCES, "--targets", *TARGETS, "--max-distance", 0.5, "--out", out)
+    with np.load(out) as archive:
+        assert archive["sources"].tolist() == SOURCES and archive["targets"].tolist() == TARGETS
+    loaded = scipy.sparse.load_npz(out)  # the extra arrays do not disturb scipy
+    ours = exactgeo.distance_matrix(sheet, SOURCES, targets=TARGETS, max_distance=0.5)
+    assert loaded.shape == ours.shape and (loaded != ours).nnz == 0
+    run_cli("matrix", mesh_file, "--sources", *SOURCES, "--max-distance", 0.5, "--out", out)
+    with np.load(out) as archive:
+        assert archive["sources"].tolist() == SOURCES and "targets" not in archive
