@@ -101,9 +101,9 @@ void append_le32(std::vector<unsigned char>& bytes, std::uint32_t bits) {
   for (int byte = 0; byte < 4; ++byte) bytes.push_back(static_cast<unsigned char>(bits >> (8 * byte)));
 }
 
-// The same as binary little-endian PLY (.ply): per vertex float x, y, z, distance (inf where unreachable),
-// with labels int nearest_source, then uchar red, green, blue; per face a uchar count and three int
-// indices. The layout exactgeo's Python package writes too; a quarter of the ASCII file's size.
+// The same as binary little-endian PLY (.ply): per vertex float x, y, z, double distance (exactly the
+// .npy's value, inf where unreachable), with labels int nearest_source, then uchar red, green, blue; per face
+// a uchar count and three int indices. The layout exactgeo.save_ply writes too; a third of the ASCII size.
 void write_values_ply(std::FILE* file, const Values& values) {
   const exactgeo::Mesh& mesh = *values.mesh;
   const auto positions = mesh.positions();
@@ -112,16 +112,18 @@ void write_values_ply(std::FILE* file, const Values& values) {
   std::fprintf(file, "ply\nformat binary_little_endian 1.0\n"
                      "comment written by exactgeo: geodesic distance per vertex\n");
   std::fprintf(file, "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n", mesh.vertex_count());
-  std::fprintf(file, "property float distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
+  std::fprintf(file, "property double distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
   std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
   std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
   std::vector<unsigned char> bytes;
-  bytes.reserve(mesh.vertex_count() * 20 + mesh.face_count() * 13);
+  bytes.reserve(mesh.vertex_count() * 27 + mesh.face_count() * 13);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     const double d = values.distances[v];
     for (int k = 0; k < 3; ++k)
       append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(positions[3 * v + k])));
-    append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(d)));
+    const auto bits = std::bit_cast<std::uint64_t>(d);
+    append_le32(bytes, static_cast<std::uint32_t>(bits));
+    append_le32(bytes, static_cast<std::uint32_t>(bits >> 32));
     if (!values.labels.empty())
       append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<std::int32_t>(label_value(values.labels[v]))));
     const std::array<std::uint8_t, 3> colour = vertex_colour(d, largest);

@@ -520,11 +520,12 @@ TEST_F(Cli, AsciiPlyOutputCarriesDistancesAndColours) {
   EXPECT_EQ(faces, 8);
 }
 
-// A binary little-endian PLY as .ply writes it: the header, then per vertex float x, y, z, distance
+// A binary little-endian PLY as .ply writes it: the header, then per vertex float x, y, z, double distance
 // (int nearest_source with labels) and uchar red, green, blue, then per face a uchar 3 and three ints.
 struct BinaryPly {
   std::vector<std::string> header;
-  std::vector<std::array<float, 4>> vertices;  // x, y, z, distance
+  std::vector<std::array<float, 3>> vertices;  // x, y, z
+  std::vector<double> distances;
   std::vector<std::int32_t> labels;
   std::vector<std::array<int, 3>> colours;
   std::vector<std::array<std::int32_t, 3>> faces;
@@ -548,13 +549,15 @@ BinaryPly read_binary_ply(const std::string& bytes, std::size_t vertex_count, st
     for (int byte = 0; byte < 4; ++byte) bits |= std::uint32_t(std::uint8_t(bytes[at++])) << (8 * byte);
     return bits;
   };
-  const std::size_t vertex_bytes = 16 + (labels ? 4 : 0) + 3;
+  const std::size_t vertex_bytes = 20 + (labels ? 4 : 0) + 3;
   EXPECT_EQ(bytes.size(), at + vertex_count * vertex_bytes + face_count * 13) << "the file's size";
   if (bytes.size() != at + vertex_count * vertex_bytes + face_count * 13) return ply;
   for (std::size_t v = 0; v < vertex_count; ++v) {
-    std::array<float, 4> vertex{};
+    std::array<float, 3> vertex{};
     for (float& value : vertex) value = std::bit_cast<float>(u32());
     ply.vertices.push_back(vertex);
+    const std::uint64_t low = u32();
+    ply.distances.push_back(std::bit_cast<double>(low | std::uint64_t{u32()} << 32));
     if (labels) ply.labels.push_back(std::bit_cast<std::int32_t>(u32()));
     ply.colours.push_back({std::uint8_t(bytes[at]), std::uint8_t(bytes[at + 1]), std::uint8_t(bytes[at + 2])});
     at += 3;
@@ -568,7 +571,7 @@ BinaryPly read_binary_ply(const std::string& bytes, std::size_t vertex_count, st
   return ply;
 }
 
-// .ply is binary: the same mesh, distances (as floats) and colours as .ascii.ply, unreachable vertices grey
+// .ply is binary: the same mesh, distances (the .npy's, bit for bit) and colours as .ascii.ply, unreachable vertices grey
 // with distance inf; a quarter of the text's size or less.
 TEST_F(Cli, PlyOutputIsBinaryWithTheAsciiPlysValues) {
   // Two grids side by side: the second is unreachable from vertex 0.
@@ -589,7 +592,7 @@ TEST_F(Cli, PlyOutputIsBinaryWithTheAsciiPlysValues) {
       std::vector<std::string> expected_header = {
           "ply", "format binary_little_endian 1.0", "comment written by exactgeo: geodesic distance per vertex",
           "element vertex " + std::to_string(n), "property float x", "property float y", "property float z",
-          "property float distance"};
+          "property double distance"};
       if (labels) expected_header.push_back("property int nearest_source");
       for (const char* line : {"property uchar red", "property uchar green", "property uchar blue"})
         expected_header.push_back(line);
@@ -614,7 +617,7 @@ TEST_F(Cli, PlyOutputIsBinaryWithTheAsciiPlysValues) {
         EXPECT_EQ(ply.vertices[v][0], static_cast<float>(x));
         EXPECT_EQ(ply.vertices[v][1], static_cast<float>(y));
         EXPECT_EQ(ply.vertices[v][2], static_cast<float>(z));
-        EXPECT_EQ(ply.vertices[v][3], static_cast<float>(distances[v])) << v;
+        EXPECT_EQ(ply.distances[v], distances[v]) << v;
         EXPECT_EQ(std::isinf(distances[v]), distance == "inf");
         if (labels) EXPECT_EQ(ply.labels[v], label);
         EXPECT_EQ(ply.colours[v], (std::array<int, 3>{red, green, blue})) << v;
