@@ -92,12 +92,15 @@ fuzz: build asan-build
 	  -artifact_prefix=$(ASAN_BUILD_DIR)/tests/fuzz/ $(ASAN_BUILD_DIR)/tests/fuzz/corpus tests/fuzz/corpus || status=1; \
 	exit $$status
 
-# Timings against the other solvers, written to bench/results/ (see bench/README.md).
+# Timings against the other solvers, written to bench/results/ (see bench/README.md). BENCH_BASELINE: the build
+# folder of an earlier commit for threads.py to compare with in the same run.
+BENCH_BASELINE ?=
 bench: build python
 	python3 -m pip install -q -r bench/requirements.txt
 	python3 bench/run.py --build-dir $(BUILD_DIR)
 	python3 bench/many_sources.py --build-dir $(BUILD_DIR)
 	python3 bench/python_level.py
+	python3 bench/threads.py --build-dir $(BUILD_DIR) $(if $(BENCH_BASELINE),--baseline-build $(BENCH_BASELINE))
 
 bench-quick: build
 	python3 -m pip install -q -r bench/requirements.txt

@@ -55,16 +55,20 @@ def peer_libigl(positions, triangles, source):
     return None, done - start, distances
 
 
-def peer_heat(positions, triangles, source):
-    import potpourri3d
-
-    # geometry-central rejects vertices used by no face: solve on the used ones (renumbered before the
-    # clocks start) and report the others unreachable, as the exact solvers do.
+def heat_on_used_vertices(positions, triangles):
+    """The used vertices and the new index of each, as geometry-central wants them: it rejects vertices used by
+    no face, so solvers run on the used ones, renumbered, and report the others unreachable as the exact
+    solvers do."""
     used = np.unique(triangles)
     new_index = np.full(len(positions), -1, dtype=np.int64)
     new_index[used] = np.arange(len(used))
-    used_positions, used_triangles = positions[used], new_index[triangles]
+    return used, new_index, positions[used], new_index[triangles]
 
+
+def peer_heat(positions, triangles, source):
+    import potpourri3d
+
+    used, new_index, used_positions, used_triangles = heat_on_used_vertices(positions, triangles)  # before the clocks
     start = time.perf_counter()
     solver = potpourri3d.MeshHeatMethodDistanceSolver(used_positions, used_triangles)
     built = time.perf_counter()
