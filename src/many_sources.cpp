@@ -35,6 +35,9 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
   std::vector<double> block;
   std::vector<GeodesicSolver> solvers;
   for (unsigned t = 0; t < threads; ++t) solvers.emplace_back(mesh);
+  // Sources are spread over the threads; a run sharing threads too would only compete with the others.
+  GeodesicOptions per_run = options.geodesic;
+  per_run.threads = 1;
 
   for (std::size_t first = 0; first < source_vertices.size(); first += block_rows) {
     const std::size_t rows = std::min(block_rows, source_vertices.size() - first);
@@ -49,7 +52,7 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
           const std::uint32_t source = source_vertices[first + r];
           const auto row = block.begin() + static_cast<std::ptrdiff_t>(r * columns);
           if (options.target_vertices && targets.empty()) continue;  // no columns, nothing to run
-          const GeodesicResult& result = solver.solve(std::span(&source, 1), targets, options.geodesic);
+          const GeodesicResult& result = solver.solve(std::span(&source, 1), targets, per_run);
           if (options.target_vertices) {
             const std::vector<std::uint32_t>& column_vertices = *options.target_vertices;
             for (std::size_t t = 0; t < columns; ++t)

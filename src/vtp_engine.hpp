@@ -152,7 +152,9 @@ class VtpEngine {
   struct RoundCrossing {
     std::uint32_t halfedge;
     std::uint32_t thread;  // whose buffers hold the crossed windows
+    bool had_windows;
     ApexReach reach;
+    Arrival at_apex;       // how the list's best path reaches the opposite corner
     std::uint64_t propagations;
     std::array<std::uint32_t, 2> begin;  // to AC and to BC, in the thread's buffers
     std::array<Handover, 2> handover;

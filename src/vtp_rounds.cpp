@@ -77,11 +77,9 @@ void VtpEngine::drain_in_rounds() {
     for (std::uint32_t i = 0; i < round_.size(); ++i) {
       const RoundCrossing& c = crossings_[i];
       const std::uint32_t h = c.halfedge;
-      const std::span<const Window> incoming = lists_.view(h);
-      if (incoming.empty()) continue;
-      const Window& best = incoming[c.reach.window];
-      relax(mesh_.apex(h), c.reach.distance, Arrival{best.pseudo_source, h, c.reach.separating_point, best.px, best.py});
-      if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
+      if (!c.had_windows) continue;
+      relax(mesh_.apex(h), c.reach.distance, c.at_apex);
+      if (!face_target_offsets_.empty()) evaluate_targets(h, lists_.view(h));
       const bool prime = face_visited_at_[face_of(h)] == iteration_;
       (prime ? stats_.prime_propagations : stats_.secondary_propagations) += c.propagations;
       lists_.clear(h);
@@ -131,12 +129,16 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
   RoundCrossing& c = crossings_[i];
   const std::uint32_t h = round_[i];
-  c = RoundCrossing{h, thread, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
+  c = RoundCrossing{h, thread, false, {}, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
+  c.had_windows = true;
   const FaceFrame frame = face_frame(h);
   c.reach = reach_apex(incoming, frame, scratch.splits);
   EXACTGEO_ASSERT(c.reach.window < incoming.size());  // some window reaches C
+  // Copied here so that the sequential pass over the round need not read the windows again.
+  const Window& best = incoming[c.reach.window];
+  c.at_apex = Arrival{best.pseudo_source, h, c.reach.separating_point, best.px, best.py};
   const std::array<std::uint32_t, 2> sides = {prev_halfedge(h), next_halfedge(h)};
   const std::array<std::uint32_t, 2> origins = {mesh_.tail(h), mesh_.head(h)};
   // The corner C as the sequential engine sees it, once this list has offered its distance there.

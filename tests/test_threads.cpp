@@ -135,6 +135,13 @@ TEST(Threads, ProgressIsReportedAndAStopEndsTheRun) {
             exactgeo::geodesic_distance(mesh, 0, {.threads = 3}).distances);
 }
 
+TEST(Threads, DistanceMatricesSpreadSourcesAndRunEachOnOneThread) {
+  const Mesh mesh(exactgeo::make_bumpy_torus(32, 16));
+  const std::vector<std::uint32_t> sources = {0, 5, 9};
+  EXPECT_EQ(exactgeo::distance_matrix(mesh, sources, {.geodesic = {.threads = 8}, .threads = 2}),
+            exactgeo::distance_matrix(mesh, sources, {.threads = 1}));
+}
+
 TEST(Threads, ZeroMeansOnePerCoreAndAbsurdCountsAreRefused) {
   const Mesh mesh(exactgeo::make_bumpy_torus(32, 16));
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());

@@ -16,7 +16,8 @@
 namespace exactgeo {
 
 struct MatrixOptions {
-  GeodesicOptions geodesic;    // per-source options; max_distance gives a sparse (cut-off) matrix
+  GeodesicOptions geodesic;    // per-source options; max_distance gives a sparse (cut-off) matrix; each run is
+                               // on one thread (its `threads` is not used: sources are spread instead)
   unsigned threads = 0;        // worker threads; 0: one per core
   std::size_t block_rows = 0;  // rows computed before they are handed over; 0: 4 per thread
   // The columns: these input vertices, in their order (a sources x targets block; each run stops as soon as
