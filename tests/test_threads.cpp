@@ -4,7 +4,9 @@
 // threaded runs against CGAL on the shared meshes.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <stdexcept>
 #include <functional>
 #include <string>
 #include <stop_token>
@@ -13,6 +15,7 @@
 
 #include "exactgeo/exactgeo.hpp"
 #include "test_meshes.hpp"
+#include "worker_pool.hpp"
 
 namespace {
 
@@ -160,6 +163,35 @@ TEST(Threads, TheRecommendationUsesEveryCoreOnlyOnLargeMeshes) {
   EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(1))), 1u);
   EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(7))),
             std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// The thread team, with more threads than a small machine has cores, so that threads are preempted within
+// batches: in each of many batches of varying size every item runs exactly once, and a batch returns only
+// when all its items are done.
+TEST(WorkerPool, EveryItemOfEveryBatchRunsOnceBeforeTheBatchReturns) {
+  exactgeo::detail::WorkerPool pool(8);
+  std::vector<std::atomic<int>> runs(300);
+  exactgeo_test::Random random(7);
+  for (int batch = 0; batch < 3000; ++batch) {
+    const std::size_t count = 2 + random.below(290);
+    for (std::size_t i = 0; i < count; ++i) runs[i] = 0;
+    pool.run(count, [&](std::size_t item, unsigned thread) {
+      ASSERT_LT(thread, 8u);
+      runs[item].fetch_add(1);
+    });
+    for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(runs[i].load(), 1) << "batch " << batch << ", item " << i;
+  }
+}
+
+TEST(WorkerPool, AFailingItemIsRethrownAndThePoolStaysUsable) {
+  exactgeo::detail::WorkerPool pool(3);
+  EXPECT_THROW(pool.run(100, [](std::size_t item, unsigned) {
+                 if (item == 37) throw std::runtime_error("item 37");
+               }),
+               std::runtime_error);
+  std::atomic<int> total{0};
+  pool.run(100, [&](std::size_t, unsigned) { total.fetch_add(1); });
+  EXPECT_EQ(total.load(), 100);
 }
 
 }  // namespace
