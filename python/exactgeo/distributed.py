@@ -272,31 +272,36 @@ class _Context:
 
 @dataclasses.dataclass(frozen=True)
 class _StoreReference:
-    """Stands for a _Context on executors: each process reads the mesh and targets from the store once."""
+    """Stands for a _Context on executors: each process reads the mesh (once per mesh) and the targets (once
+    per run) from the store."""
 
     path: str
     mesh_sha256: str
     has_targets: bool
+    run: str  # tells runs apart: a store replaced (resume=False) may keep its path and mesh
 
 
-_contexts: dict[tuple[str, str], _Context] = {}  # per process: (store, mesh hash) -> its context
+_meshes: dict[str, Mesh] = {}  # per process: mesh hash -> the mesh, the last one only
+_contexts: dict[_StoreReference, _Context] = {}  # per process: the last run's context
 
 
 def _context_of(context: Union[_Context, _StoreReference]) -> _Context:
     if isinstance(context, _Context):
         return context
-    key = (context.path, context.mesh_sha256)
-    if key not in _contexts:
+    if context not in _contexts:
         path = Path(context.path)
-        weld = bool(_open_group(path, "r").attrs["exactgeo"]["weld_duplicate_positions"])
-        mesh = Mesh(_open_array(path / "mesh" / "vertices")[...], _open_array(path / "mesh" / "faces")[...],
-                    weld_duplicate_positions=weld)
-        if mesh_hash(mesh) != context.mesh_sha256:
-            raise ValueError(f"the mesh stored in {path} is not the one of this run (its sha256 differs)")
+        if context.mesh_sha256 not in _meshes:
+            weld = bool(_open_group(path, "r").attrs["exactgeo"]["weld_duplicate_positions"])
+            mesh = Mesh(_open_array(path / "mesh" / "vertices")[...], _open_array(path / "mesh" / "faces")[...],
+                        weld_duplicate_positions=weld)
+            if mesh_hash(mesh) != context.mesh_sha256:
+                raise ValueError(f"the mesh stored in {path} is not the one of this run (its sha256 differs)")
+            _meshes.clear()
+            _meshes[context.mesh_sha256] = mesh
         targets = np.asarray(_open_array(path / "target")[...], dtype=np.int64) if context.has_targets else None
-        _contexts.clear()  # one mesh per process at a time
-        _contexts[key] = _Context(mesh, targets)
-    return _contexts[key]
+        _contexts.clear()
+        _contexts[context] = _Context(_meshes[context.mesh_sha256], targets)
+    return _contexts[context]
 
 
 def _compute_block(context: Union[_Context, _StoreReference], store: str, block: int, rows: tuple[int, int],
@@ -444,7 +449,7 @@ def distance_matrix_to_zarr(
     try:
         if tasks:
             context = _Context(mesh, target_array)
-            reference = _StoreReference(str(path), settings["mesh_sha256"], target_array is not None)
+            reference = _StoreReference(str(path), settings["mesh_sha256"], target_array is not None, uuid.uuid4().hex)
             _run(client, tasks, context, reference, retries, finished)
     except BaseException:
         reporter.abandon()
