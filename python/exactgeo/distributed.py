@@ -20,7 +20,8 @@ a cluster):
                                     block was written yet (dense matrices only)
     STORE/source, STORE/target      int64 vertex index of each row, of each column
     STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
-    STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only)
+    STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
+                                    row pointers from 0; written in a hidden folder beside it, then renamed
     STORE/done/block_000012         a Zarr group with no arrays, made once block 12's data is complete: its
                                     metadata file (zarr.json, or .zgroup for format v2) is renamed into place
                                     last and is the marker; its attributes hold the block's rows and the
@@ -326,10 +327,21 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
         pieces = {"data": np.ascontiguousarray(matrix.data.astype(dtype, copy=False)),
                   "indices": np.ascontiguousarray(matrix.indices.astype(np.uint32, copy=False)),
                   "indptr": np.ascontiguousarray(matrix.indptr.astype(np.int64, copy=False))}
-        group = _open_group(path / "csr" / _block_name(block), "w")  # clears what a failed attempt left
+        # Written whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete.
+        final = path / "csr" / _block_name(block)
+        temporary = final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
+        group = _open_group(temporary, "w")
         for name, values in pieces.items():
             _array_of(group, name, values, (name,))
             digest.update(values.tobytes())
+        try:
+            os.rename(temporary, final)
+        except OSError:
+            if not final.is_dir():
+                raise
+            # Another attempt at this block (a duplicate, or an earlier run stopped before the marker) put
+            # the same rows there, complete: keep those.
+            shutil.rmtree(temporary, ignore_errors=True)
         record["nnz"] = int(len(pieces["data"]))
     record["sha256"] = digest.hexdigest()
     record["seconds"] = time.perf_counter() - started
@@ -389,6 +401,8 @@ def distance_matrix_to_zarr(
     if str(np.dtype(dtype)) not in DTYPES:
         raise ValueError(f"dtype must be float32 or float64, not {dtype!r}")
     cutoff = None if max_distance is None else _inputs.cutoff(max_distance)
+    if cutoff is not None and not (0 <= cutoff < math.inf):
+        raise ValueError(f"max_distance must be a finite number of at least 0, not {max_distance!r}")
     threads = _inputs.count(threads, "threads", minimum=1)
     retries = _inputs.count(retries, "retries")
     width = mesh.vertex_count if target_array is None else len(target_array)
@@ -428,6 +442,8 @@ def distance_matrix_to_zarr(
             shutil.rmtree(path)
         _create_store(path, settings, mesh, source_array, target_array)
     blocks = settings["blocks"]
+    for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
+        shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
     done = _done_blocks(path, blocks)
     todo = [b for b in range(blocks) if b not in set(done)]
     options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads}

@@ -194,6 +194,8 @@ def test_a_store_made_for_another_matrix_is_refused(tmp_path):
         assert (tmp_path / "mine" / "notes.txt").read_text() == "keep me"
     with pytest.raises(ValueError, match="dtype must be float32 or float64"):
         distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "x.zarr", dtype="int32")
+    with pytest.raises(ValueError, match="max_distance must be a finite number"):
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "z.zarr", max_distance=-1.0)
     with pytest.raises(TypeError, match="client must be"):
         distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "y.zarr", client=object())
 
@@ -209,12 +211,26 @@ def test_the_sparse_layout_equals_distance_matrix_with_max_distance(client, tmp_
     part = distributed.read_sparse(tmp_path / "s.zarr", rows=slice(6, 13))
     assert np.array_equal(part.toarray(), reference[6:13].toarray())
     # Rows of block 0 only are read while block 3 is missing; rows in block 3 name it.
-    marker = tmp_path / "s.zarr" / "done" / "block_000003" / "zarr.json"
-    marker.rename(marker.with_name("moved"))
+    for name in ("zarr.json", ".zgroup"):  # the marker in Zarr format v3, v2
+        marker = tmp_path / "s.zarr" / "done" / "block_000003" / name
+        if marker.exists():
+            marker.rename(marker.with_name("moved"))
     assert np.array_equal(distributed.read_sparse(tmp_path / "s.zarr", rows=range(0, 4)).toarray(),
                           reference[0:4].toarray())
     with pytest.raises(ValueError, match=r"blocks \[3\] are not done"):
         distributed.read_sparse(tmp_path / "s.zarr", rows=slice(10, 14))
+    # Resuming: block 3 again (its pieces, complete, were already in place: they are kept) and the pieces
+    # of an attempt that died before renaming them into place are removed.
+    leftover = tmp_path / "s.zarr" / "csr" / ".block_000005.1234.abc.tmp"
+    leftover.mkdir()
+    with ThreadPoolExecutor(1) as executor:
+        run = distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "s.zarr", dtype="float64",
+                                                  max_distance=0.6, client=executor)
+    assert run.computed == (3,) and not leftover.exists()
+    again = distributed.read_sparse(tmp_path / "s.zarr")
+    assert np.array_equal(again.data, reference.data) and np.array_equal(again.indices, reference.indices)
+    assert sorted(p.name for p in (tmp_path / "s.zarr" / "csr").iterdir() if p.is_dir()) == \
+        [f"block_{b:06d}" for b in range(8)]
     # float32 stores the rounded distances.
     with ThreadPoolExecutor(2) as executor:
         distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "f.zarr", max_distance=0.6, block_rows=5,
