@@ -445,7 +445,7 @@ def distance_matrix_to_zarr(
     for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
         shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
     done = _done_blocks(path, blocks)
-    todo = [b for b in range(blocks) if b not in set(done)]
+    todo = sorted(set(range(blocks)) - set(done))
     options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads}
     tasks = {b: (str(path), b, (b * rows_per_block, min((b + 1) * rows_per_block, len(source_array))),
                  source_array[b * rows_per_block:(b + 1) * rows_per_block], options) for b in todo}
