@@ -489,8 +489,9 @@ def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference
             from distributed import Client, LocalCluster
         except ImportError:
             raise ImportError(_MISSING_EXTRA) from None
+        # No dashboard; the scheduler's HTTP server (health checks) on a free loopback port, not 8787.
         cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=None)
+                               dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False})
         with cluster, Client(cluster) as own:
             _run_dask(own, tasks, context, retries, finished)
         return

@@ -39,7 +39,7 @@ REFERENCE = exactgeo.distance_matrix(MESH, SOURCES)
 @pytest.fixture(scope="module")
 def client():
     cluster = dask_distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                            dashboard_address=None)
+                                            dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False})
     with cluster, dask_distributed.Client(cluster) as connected:
         yield connected
 
@@ -238,3 +238,37 @@ def test_the_sparse_layout_equals_distance_matrix_with_max_distance(client, tmp_
     single = distributed.read_sparse(tmp_path / "f.zarr")
     assert single.dtype == np.float32 and np.array_equal(single.data, reference.data.astype(np.float32))
     assert np.array_equal(single.indices, reference.indices)
+
+
+def test_an_interrupted_dask_run_resumes_with_the_missing_blocks_only(client, tmp_path):
+    import time
+
+    store = tmp_path / "d.zarr"
+
+    def stop_after_two_blocks(done, total):
+        if done >= 2 * 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, store, dtype="float64", block_rows=2, client=client,
+                                            progress=stop_after_two_blocks)
+    deadline = time.monotonic() + 20
+    while any(client.processing().values()) and time.monotonic() < deadline:  # blocks already running end
+        time.sleep(0.05)
+    before = distributed.store_status(store)
+    assert 2 <= len(before.done) < 15
+    run = distributed.distance_matrix_to_zarr(MESH, SOURCES, store, dtype="float64", client=client)
+    assert run.computed == before.missing and run.reused == before.done
+    assert np.array_equal(dense(store), REFERENCE)
+
+
+def test_without_a_client_a_local_cluster_is_started_and_closed(tmp_path):
+    import psutil
+
+    children = {p.pid for p in psutil.Process().children(recursive=True)}
+    rows = []
+    run = distributed.distance_matrix_to_zarr(MESH, SOURCES[:6], tmp_path / "d.zarr", dtype="float64", block_rows=3,
+                                              progress=lambda done, total: rows.append((done, total)))
+    assert run.computed == (0, 1) and rows[0] == (0, 6) and rows[-1] == (6, 6)
+    assert np.array_equal(dense(tmp_path / "d.zarr"), REFERENCE[:6])
+    assert {p.pid for p in psutil.Process().children(recursive=True)} <= children  # no worker left behind
