@@ -83,7 +83,8 @@ class StoreStatus:
     block_rows: int
     blocks: int
     done: tuple[int, ...]
-    missing: tuple[int, ...]
+    missing: tuple[int, ...]  # corrupt blocks included
+    corrupt: tuple[int, ...] = ()  # with verify=True: marked done, but their data is not what the marker says
 
     @property
     def complete(self) -> bool:
@@ -373,6 +374,7 @@ def distance_matrix_to_zarr(
     progress: Progress = False,
     threads: int = 1,
     retries: int = 2,
+    verify: bool = False,
 ) -> MatrixRun:
     """exactgeo.distance_matrix(mesh, sources, targets=..., max_distance=...) into the Zarr store `store` (a
     folder), computed block by block on Dask workers, each block written by its worker.
@@ -392,7 +394,9 @@ def distance_matrix_to_zarr(
     `resume=True` keeps the blocks marked done in an existing store made for the same mesh, sources,
     targets, dtype and max_distance (ValueError naming what differs otherwise) and computes the others;
     `resume=False` replaces an existing exactgeo store. A path holding anything else raises ValueError.
-    `progress`: True for a tqdm bar, or a function called with (rows done, rows). Returns a MatrixRun.
+    `verify=True` reads the done blocks first and computes again those whose data does not match the sha256
+    their marker recorded. `progress`: True for a tqdm bar, or a function called with (rows done, rows).
+    Returns a MatrixRun.
     """
     _zarr()
     mesh = checked_mesh(mesh)
@@ -445,6 +449,11 @@ def distance_matrix_to_zarr(
     for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
         shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
     done = _done_blocks(path, blocks)
+    if verify:
+        for block in [b for b in done if not _block_intact(path, settings, b)]:
+            shutil.rmtree(path / "done" / _block_name(block))  # its marker goes first: computed again below
+            shutil.rmtree(path / "csr" / _block_name(block), ignore_errors=True)  # pieces are kept, not rewritten
+            done.remove(block)
     todo = sorted(set(range(blocks)) - set(done))
     options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads}
     tasks = {b: (str(path), b, (b * rows_per_block, min((b + 1) * rows_per_block, len(source_array))),
@@ -550,17 +559,55 @@ def _run_executor(executor: concurrent.futures.Executor, tasks: dict, reference:
 # Reading a store.
 
 
-def store_status(store: StorePath) -> StoreStatus:
+def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
     """Which blocks of the store are done and which are missing (a run with resume=True computes those).
+    `verify=True` also reads each done block's data and checks it against the sha256 its marker recorded:
+    blocks that differ are `corrupt` and counted as missing (a run with verify=True computes them again).
     ValueError if `store` is not an exactgeo distance matrix store."""
     path = Path(os.fspath(store)).absolute()
     settings = _stored_settings(path)
     if settings is None:
         raise ValueError(f"{path} holds no exactgeo distance matrix store")
     done = _done_blocks(path, settings["blocks"])
+    corrupt = tuple(b for b in done if not _block_intact(path, settings, b)) if verify else ()
+    done = [b for b in done if b not in corrupt]
     missing = tuple(sorted(set(range(settings["blocks"])) - set(done)))
     return StoreStatus(str(path), settings["layout"], tuple(settings["shape"]), settings["dtype"],
-                       settings["block_rows"], settings["blocks"], tuple(done), missing)
+                       settings["block_rows"], settings["blocks"], tuple(done), missing, corrupt)
+
+
+def _marker_record(path: Path, block: int) -> Optional[dict]:
+    folder = path / "done" / _block_name(block)
+    try:
+        if (folder / "zarr.json").is_file():
+            with open(folder / "zarr.json") as file:
+                return json.load(file).get("attributes")
+        with open(folder / ".zattrs") as file:
+            return json.load(file)
+    except (OSError, ValueError):
+        return None
+
+
+def _block_intact(path: Path, settings: dict, block: int) -> bool:
+    """The block's data hashes to the sha256 its marker recorded."""
+    record = _marker_record(path, block)
+    if not isinstance(record, dict) or "sha256" not in record:
+        return False
+    digest = hashlib.sha256()
+    try:
+        if settings["max_distance"] is None:
+            start, stop = record["rows"]
+            values = _open_array(path / "distances")[start:stop, :]
+            digest.update(np.ascontiguousarray(values, dtype=settings["dtype"]).tobytes())
+        else:
+            group = path / "csr" / _block_name(block)
+            for name, dtype in (("data", settings["dtype"]), ("indices", np.uint32), ("indptr", np.int64)):
+                array = _open_array(group / name)
+                values = array[...] if array.shape[0] else np.zeros(0, dtype=dtype)
+                digest.update(np.ascontiguousarray(values, dtype=dtype).tobytes())
+    except Exception:  # a chunk or piece that cannot be read is not intact either
+        return False
+    return digest.hexdigest() == record["sha256"]
 
 
 def read_sparse(store: StorePath, rows: Union[slice, range, None] = None) -> Any:

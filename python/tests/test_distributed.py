@@ -240,10 +240,21 @@ def test_the_sparse_layout_equals_distance_matrix_with_max_distance(client, tmp_
     assert np.array_equal(single.indices, reference.indices)
 
 
-def test_an_interrupted_dask_run_resumes_with_the_missing_blocks_only(client, tmp_path):
+def _slowly(*arguments):
+    """The block task, a fifth of a second longer: blocks still queued when the run is interrupted."""
+    import time
+
+    time.sleep(0.2)
+    from exactgeo import distributed as module  # in a worker: the module as it is, not the test's patch
+
+    return module._compute_block(*arguments)
+
+
+def test_an_interrupted_dask_run_resumes_with_the_missing_blocks_only(client, tmp_path, monkeypatch):
     import time
 
     store = tmp_path / "d.zarr"
+    monkeypatch.setattr(distributed, "_compute_block", _slowly)
 
     def stop_after_two_blocks(done, total):
         if done >= 2 * 2:
@@ -257,6 +268,7 @@ def test_an_interrupted_dask_run_resumes_with_the_missing_blocks_only(client, tm
         time.sleep(0.05)
     before = distributed.store_status(store)
     assert 2 <= len(before.done) < 15
+    monkeypatch.undo()
     run = distributed.distance_matrix_to_zarr(MESH, SOURCES, store, dtype="float64", client=client)
     assert run.computed == before.missing and run.reused == before.done
     assert np.array_equal(dense(store), REFERENCE)
@@ -272,3 +284,28 @@ def test_without_a_client_a_local_cluster_is_started_and_closed(tmp_path):
     assert run.computed == (0, 1) and rows[0] == (0, 6) and rows[-1] == (6, 6)
     assert np.array_equal(dense(tmp_path / "d.zarr"), REFERENCE[:6])
     assert {p.pid for p in psutil.Process().children(recursive=True)} <= children  # no worker left behind
+
+
+def test_verify_finds_blocks_whose_data_is_not_what_their_marker_says(tmp_path):
+    with ThreadPoolExecutor(2) as executor:
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "d.zarr", dtype="float64", block_rows=4,
+                                            client=executor)
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "s.zarr", max_distance=0.6, block_rows=4,
+                                            client=executor)
+        assert distributed.store_status(tmp_path / "d.zarr", verify=True).corrupt == ()
+        assert distributed.store_status(tmp_path / "s.zarr", verify=True).corrupt == ()
+        zarr.open_array(str(tmp_path / "d.zarr" / "distances"), mode="r+")[9, 3] = 1.5  # block 2
+        data = zarr.open_array(str(tmp_path / "s.zarr" / "csr" / "block_000005" / "data"), mode="r+")
+        data[0] = data[0] + 1
+        assert distributed.store_status(tmp_path / "d.zarr").complete  # markers alone say nothing
+        for store, block in (("d.zarr", 2), ("s.zarr", 5)):
+            status = distributed.store_status(tmp_path / store, verify=True)
+            assert status.corrupt == (block,) and status.missing == (block,) and block not in status.done
+            run = distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / store, client=executor, verify=True,
+                                                      dtype="float64" if store == "d.zarr" else "float32",
+                                                      max_distance=None if store == "d.zarr" else 0.6)
+            assert run.computed == (block,)
+            assert distributed.store_status(tmp_path / store, verify=True).corrupt == ()
+    assert np.array_equal(dense(tmp_path / "d.zarr"), REFERENCE)
+    reference = exactgeo.distance_matrix(MESH, SOURCES, max_distance=0.6)
+    assert np.array_equal(distributed.read_sparse(tmp_path / "s.zarr").data, reference.data.astype(np.float32))
