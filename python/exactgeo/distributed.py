@@ -1,0 +1,659 @@
+"""Distance matrices larger than one machine: rows computed in blocks on Dask workers (or any
+concurrent.futures executor), each block written by its worker straight into a Zarr store.
+
+    from exactgeo import distributed
+    run = distributed.distance_matrix_to_zarr(mesh, sources, "d.zarr")   # a LocalCluster on every core
+    distributed.store_status("d.zarr").complete                          # True
+    zarr.open_array("d.zarr/distances")[:]                                # or dask.array.from_zarr
+
+An optional extra (pip install exactgeo[distributed]: dask[distributed] and zarr); `import exactgeo` does not
+import it, and this module imports dask and zarr only when a function needs them. zarr-python 3 (format v3)
+and 2.16+ (format v2) both work. See docs/distributed.md.
+
+The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for
+a cluster):
+
+    STORE/zarr.json                 root group; attribute "exactgeo": what the matrix is (mesh hash, sources,
+                                    targets, dtype, max_distance, block_rows, exactgeo's version)
+    STORE/distances                 (sources, targets) array, chunks of (block_rows, all columns): block b is
+                                    chunk row b, rows [b * block_rows, (b + 1) * block_rows); NaN where no
+                                    block was written yet (dense matrices only)
+    STORE/source, STORE/target      int64 vertex index of each row, of each column
+    STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
+    STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
+                                    row pointers from 0; written in a hidden folder beside it, then renamed
+    STORE/done/block_000012         a Zarr group with no arrays, made once block 12's data is complete: its
+                                    metadata file (zarr.json, or .zgroup for format v2) is renamed into place
+                                    last and is the marker; its attributes hold the block's rows and the
+                                    sha256 of the bytes written
+
+A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
+at most blocks without markers, which the next run with resume=True computes again.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import dataclasses
+import hashlib
+import json
+import math
+import os
+import shutil
+import time
+import uuid
+from pathlib import Path
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _inputs
+from ._mesh import Mesh, checked_mesh
+from ._progress import Progress, Reporter
+
+FORMAT = "exactgeo-distance-matrix/1"
+DTYPES = ("float32", "float64")
+StorePath = Union[str, "os.PathLike[str]"]
+
+_MISSING_EXTRA = "exactgeo.distributed needs its extra: pip install 'exactgeo[distributed]' (dask[distributed], zarr)"
+
+
+# What a run returns and what a store holds.
+
+
+@dataclasses.dataclass(frozen=True)
+class MatrixRun:
+    """What distance_matrix_to_zarr did: the store, its block count, the blocks it computed (in order of
+    block index) and those it found done and kept."""
+
+    store: str
+    blocks: int
+    computed: tuple[int, ...]
+    reused: tuple[int, ...]
+
+
+@dataclasses.dataclass(frozen=True)
+class StoreStatus:
+    """Which blocks of a store are done (their marker written after their data) and which are missing."""
+
+    store: str
+    layout: str  # "dense" (the distances array) or "sparse" (csr/ pieces)
+    shape: tuple[int, int]  # (sources, targets)
+    dtype: str
+    block_rows: int
+    blocks: int
+    done: tuple[int, ...]
+    missing: tuple[int, ...]  # corrupt blocks included
+    corrupt: tuple[int, ...] = ()  # with verify=True: marked done, but their data is not what the marker says
+
+    @property
+    def complete(self) -> bool:
+        return not self.missing
+
+    def rows(self, block: int) -> range:
+        """The matrix rows of `block`."""
+        start = block * self.block_rows
+        return range(start, min(start + self.block_rows, self.shape[0]))
+
+
+# Lazy imports of the optional extra.
+
+
+def _zarr() -> Any:
+    try:
+        import zarr
+    except ImportError:
+        raise ImportError(_MISSING_EXTRA) from None
+    return zarr
+
+
+def _zarr_major() -> int:
+    return int(_zarr().__version__.split(".")[0])
+
+
+def _open_group(path: Path, mode: str) -> Any:
+    return _zarr().open_group(store=str(path), mode=mode)
+
+
+def _open_array(path: Path, mode: str = "r") -> Any:
+    return _zarr().open_array(store=str(path), mode=mode)
+
+
+def _new_array(group: Any, name: str, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any,
+               fill_value: Any, dimensions: Sequence[str]) -> Any:
+    """An array in `group` (replacing one of that name); dimension names as xarray reads them in both formats."""
+    chunks = tuple(max(1, c) for c in chunks)
+    if _zarr_major() >= 3:
+        return group.create_array(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
+                                  dimension_names=list(dimensions), overwrite=True)
+    array = group.create_dataset(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value, overwrite=True)
+    array.attrs["_ARRAY_DIMENSIONS"] = list(dimensions)
+    return array
+
+
+def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[str]) -> None:
+    array = _new_array(group, name, values.shape, values.shape, values.dtype, 0, dimensions)
+    if values.size:
+        array[...] = values
+
+
+# The mesh, the settings and the markers.
+
+
+def mesh_hash(mesh: Mesh) -> str:
+    """sha256 (hex) of the mesh's input: vertex and face counts, welding, vertices as float64 and faces as
+    uint32, in C order. Equal meshes have equal hashes; stores record it."""
+    digest = hashlib.sha256(b"exactgeo-mesh/1")
+    vertices = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    faces = np.ascontiguousarray(mesh.faces, dtype=np.uint32)
+    digest.update(np.array([len(vertices), len(faces), int(mesh._weld)], dtype="<i8").tobytes())
+    digest.update(vertices.astype("<f8", copy=False).tobytes())
+    digest.update(faces.astype("<u4", copy=False).tobytes())
+    return digest.hexdigest()
+
+
+def _block_name(block: int) -> str:
+    return f"block_{block:06d}"
+
+
+def _write_atomically(final: Path, text: str) -> None:
+    """The file appears whole or not at all: written beside its final name, synced, then renamed."""
+    temporary = final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
+    with open(temporary, "w") as file:
+        file.write(text)
+        file.flush()
+        os.fsync(file.fileno())
+    os.replace(temporary, final)
+
+
+def _write_marker(path: Path, block: int, record: dict) -> None:
+    """done/block_NNNNNN: a Zarr group whose attributes are `record`; its metadata file, renamed into place
+    after the block's data is written, is the marker."""
+    folder = path / "done" / _block_name(block)
+    folder.mkdir(parents=True, exist_ok=True)
+    if _zarr_major() >= 3:
+        _write_atomically(folder / "zarr.json", json.dumps(
+            {"zarr_format": 3, "node_type": "group", "attributes": record}))
+    else:
+        _write_atomically(folder / ".zattrs", json.dumps(record))
+        _write_atomically(folder / ".zgroup", json.dumps({"zarr_format": 2}))
+
+
+def _done_blocks(path: Path, blocks: int) -> list[int]:
+    folder = path / "done"
+    if not folder.is_dir():
+        return []
+    found = []
+    for entry in folder.iterdir():
+        number = entry.name[len("block_"):]
+        if entry.name.startswith("block_") and number.isdigit() and int(number) < blocks \
+                and ((entry / "zarr.json").is_file() or (entry / ".zgroup").is_file()):
+            found.append(int(number))
+    return sorted(found)
+
+
+def _stored_settings(path: Path) -> Optional[dict]:
+    """The store's "exactgeo" attribute, None if there is no store at `path`; ValueError if `path` holds
+    something else."""
+    if not path.exists():
+        return None
+    if not path.is_dir():
+        raise ValueError(f"{path} exists and is not a folder: choose another store")
+    if not any(path.iterdir()):
+        return None
+    if not ((path / "zarr.json").is_file() or (path / ".zgroup").is_file()):
+        raise ValueError(f"{path} exists and is not a Zarr store: choose another store (nothing was changed)")
+    settings = dict(_open_group(path, "r").attrs).get("exactgeo")
+    if not isinstance(settings, dict) or settings.get("format") != FORMAT:
+        raise ValueError(f"{path} is a Zarr store but not an exactgeo distance matrix: choose another store "
+                         "(nothing was changed)")
+    return settings
+
+
+def _describe(values: Optional[list], noun: str) -> str:
+    if values is None:
+        return f"every vertex as {noun}"
+    head = ", ".join(map(str, values[:5])) + (", ..." if len(values) > 5 else "")
+    return f"{len(values)} {noun} [{head}]"
+
+
+def _differences(stored: dict, wanted: dict, explicit_block_rows: bool) -> list[str]:
+    found = []
+    if stored["mesh_sha256"] != wanted["mesh_sha256"]:
+        found.append(f"another mesh (the store's: {stored['vertex_count']} vertices, {stored['face_count']} faces, "
+                     f"sha256 {stored['mesh_sha256'][:12]}...; this one: {wanted['vertex_count']} vertices, "
+                     f"{wanted['face_count']} faces, sha256 {wanted['mesh_sha256'][:12]}...)")
+    if stored["sources"] != wanted["sources"]:
+        found.append(f"other sources (the store's: {_describe(stored['sources'], 'sources')}; these: "
+                     f"{_describe(wanted['sources'], 'sources')})")
+    if stored["targets"] != wanted["targets"]:
+        found.append(f"other targets (the store's: {_describe(stored['targets'], 'targets')}; these: "
+                     f"{_describe(wanted['targets'], 'targets')})")
+    for key in ("dtype", "max_distance", "zarr_format"):
+        if stored[key] != wanted[key]:
+            found.append(f"another {key} (the store's: {stored[key]!r}; this run's: {wanted[key]!r})")
+    if explicit_block_rows and stored["block_rows"] != wanted["block_rows"]:
+        found.append(f"another block_rows (the store's: {stored['block_rows']}; this run's: {wanted['block_rows']})")
+    return found
+
+
+def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, targets: Optional[np.ndarray]) -> None:
+    root = _open_group(path, "w")
+    rows, width = settings["shape"]
+    if settings["max_distance"] is None:
+        _new_array(root, "distances", (rows, width), (settings["block_rows"], width), settings["dtype"], float("nan"),
+                   ("source", "target"))
+    else:
+        root.create_group("csr")
+    _array_of(root, "source", sources.astype(np.int64), ("source",))
+    _array_of(root, "target", (np.arange(width) if targets is None else targets).astype(np.int64), ("target",))
+    meshes = root.create_group("mesh")
+    _array_of(meshes, "vertices", np.array(mesh.vertices, dtype=np.float64), ("vertex", "xyz"))
+    _array_of(meshes, "faces", np.array(mesh.faces, dtype=np.uint32), ("face", "corner"))
+    root.create_group("done")
+    # The attribute goes last: a store interrupted while being made has none and is not taken as one.
+    root.attrs["exactgeo"] = settings
+
+
+def _default_block_rows(rows: int, width: int, itemsize: int) -> int:
+    """At most 32 MiB a chunk, at most 4096 rows, and some 32 blocks or more when there are enough rows."""
+    budget = (32 << 20) // max(1, width * itemsize)
+    return max(1, min(math.ceil(rows / 32), budget, 4096))
+
+
+# The work of one block, on a worker.
+
+
+@dataclasses.dataclass
+class _Context:
+    """What every block needs besides its rows: sent to each Dask worker once (scatter, broadcast)."""
+
+    mesh: Mesh
+    targets: Optional[np.ndarray]
+
+
+@dataclasses.dataclass(frozen=True)
+class _StoreReference:
+    """Stands for a _Context on executors: each process reads the mesh (once per mesh) and the targets (once
+    per run) from the store."""
+
+    path: str
+    mesh_sha256: str
+    has_targets: bool
+    run: str  # tells runs apart: a store replaced (resume=False) may keep its path and mesh
+
+
+_meshes: dict[str, Mesh] = {}  # per process: mesh hash -> the mesh, the last one only
+_contexts: dict[_StoreReference, _Context] = {}  # per process: the last run's context
+
+
+def _context_of(context: Union[_Context, _StoreReference]) -> _Context:
+    if isinstance(context, _Context):
+        return context
+    if context not in _contexts:
+        path = Path(context.path)
+        if context.mesh_sha256 not in _meshes:
+            weld = bool(_open_group(path, "r").attrs["exactgeo"]["weld_duplicate_positions"])
+            mesh = Mesh(_open_array(path / "mesh" / "vertices")[...], _open_array(path / "mesh" / "faces")[...],
+                        weld_duplicate_positions=weld)
+            if mesh_hash(mesh) != context.mesh_sha256:
+                raise ValueError(f"the mesh stored in {path} is not the one of this run (its sha256 differs)")
+            _meshes.clear()
+            _meshes[context.mesh_sha256] = mesh
+        targets = np.asarray(_open_array(path / "target")[...], dtype=np.int64) if context.has_targets else None
+        _contexts.clear()
+        _contexts[context] = _Context(_meshes[context.mesh_sha256], targets)
+    return _contexts[context]
+
+
+def _compute_block(context: Union[_Context, _StoreReference], store: str, block: int, rows: tuple[int, int],
+                   sources: np.ndarray, options: dict) -> dict:
+    """Computes rows [rows[0], rows[1]) (block `block`), writes them into the store, then the block's marker."""
+    from ._many_sources import distance_matrix
+
+    started = time.perf_counter()
+    path = Path(store)
+    context = _context_of(context)
+    dtype = np.dtype(options["dtype"])
+    max_distance = options["max_distance"]
+    matrix = distance_matrix(context.mesh, sources, targets=context.targets, max_distance=max_distance,
+                             threads=options["threads"])
+    digest = hashlib.sha256()
+    record: dict[str, Any] = {"block": block, "rows": list(rows)}
+    if max_distance is None:
+        values = np.ascontiguousarray(matrix.astype(dtype, copy=False))
+        _open_array(path / "distances", "r+")[rows[0]:rows[1], :] = values
+        digest.update(values.tobytes())
+    else:
+        pieces = {"data": np.ascontiguousarray(matrix.data.astype(dtype, copy=False)),
+                  "indices": np.ascontiguousarray(matrix.indices.astype(np.uint32, copy=False)),
+                  "indptr": np.ascontiguousarray(matrix.indptr.astype(np.int64, copy=False))}
+        # Written whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete.
+        final = path / "csr" / _block_name(block)
+        temporary = final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
+        group = _open_group(temporary, "w")
+        for name, values in pieces.items():
+            _array_of(group, name, values, (name,))
+            digest.update(values.tobytes())
+        try:
+            os.rename(temporary, final)
+        except OSError:
+            if not final.is_dir():
+                raise
+            # Another attempt at this block (a duplicate, or an earlier run stopped before the marker) put
+            # the same rows there, complete: keep those.
+            shutil.rmtree(temporary, ignore_errors=True)
+        record["nnz"] = int(len(pieces["data"]))
+    record["sha256"] = digest.hexdigest()
+    record["seconds"] = time.perf_counter() - started
+    _write_marker(path, block, record)
+    return record
+
+
+# The driver.
+
+
+def _vertices(values: object, mesh: Mesh, what: str) -> np.ndarray:
+    array = _inputs.vertex_array(values, mesh.vertex_count, what, lambda i: "vertex").astype(np.int64)
+    if array.size and array.max() >= mesh.vertex_count:
+        raise ValueError(f"{what}: vertex {int(array.max())} is out of range (mesh has {mesh.vertex_count} vertices)")
+    return array
+
+
+def distance_matrix_to_zarr(
+    mesh: Mesh,
+    sources: object,
+    store: StorePath,
+    *,
+    targets: object = None,
+    max_distance: Optional[float] = None,
+    dtype: str = "float32",
+    block_rows: Optional[int] = None,
+    client: Any = None,
+    resume: bool = True,
+    progress: Progress = False,
+    threads: int = 1,
+    retries: int = 2,
+    verify: bool = False,
+) -> MatrixRun:
+    """exactgeo.distance_matrix(mesh, sources, targets=..., max_distance=...) into the Zarr store `store` (a
+    folder), computed block by block on Dask workers, each block written by its worker.
+
+    Rows go in blocks of `block_rows` (default: 32 MiB a chunk, at most 4096 rows, at least some 32 blocks;
+    an existing store's value when resuming); the dense array's chunks are exactly the blocks, so workers
+    never write the same chunk. `dtype`: "float32" (the float64 distances rounded) or "float64" (bit for bit
+    distance_matrix's values); inf stays inf. With `max_distance`, each block is stored as CSR pieces
+    instead (read them with read_sparse).
+
+    `client`: None starts a LocalCluster on 127.0.0.1 (one single-threaded worker process per core) and
+    closes it afterwards; a dask.distributed Client is used as it is (tasks retried `retries` times after
+    a Python exception; a dead worker's tasks are rerun by Dask); any concurrent.futures.Executor too
+    (ProcessPoolExecutor, mpi4py's MPIPoolExecutor), where each process reads the mesh from the store
+    once. `threads`: threads of distance_matrix within a block.
+
+    `resume=True` keeps the blocks marked done in an existing store made for the same mesh, sources,
+    targets, dtype and max_distance (ValueError naming what differs otherwise) and computes the others;
+    `resume=False` replaces an existing exactgeo store. A path holding anything else raises ValueError.
+    `verify=True` reads the done blocks first and computes again those whose data does not match the sha256
+    their marker recorded. `progress`: True for a tqdm bar, or a function called with (rows done, rows).
+    Returns a MatrixRun.
+    """
+    _zarr()
+    mesh = checked_mesh(mesh)
+    source_array = _vertices(sources, mesh, "sources")
+    target_array = None if targets is None else _vertices(targets, mesh, "targets")
+    if str(np.dtype(dtype)) not in DTYPES:
+        raise ValueError(f"dtype must be float32 or float64, not {dtype!r}")
+    cutoff = None if max_distance is None else _inputs.cutoff(max_distance)
+    if cutoff is not None and not (0 <= cutoff < math.inf):
+        raise ValueError(f"max_distance must be a finite number of at least 0, not {max_distance!r}")
+    threads = _inputs.count(threads, "threads", minimum=1)
+    retries = _inputs.count(retries, "retries")
+    width = mesh.vertex_count if target_array is None else len(target_array)
+    path = Path(os.fspath(store)).absolute()
+    stored = _stored_settings(path)
+    if block_rows is None:
+        rows_per_block = stored["block_rows"] if stored and resume else _default_block_rows(
+            len(source_array), width, np.dtype(dtype).itemsize)
+    else:
+        rows_per_block = _inputs.count(block_rows, "block_rows", minimum=1)
+    from . import __version__
+
+    settings = {
+        "format": FORMAT,
+        "version": __version__,
+        "mesh_sha256": mesh_hash(mesh),
+        "vertex_count": mesh.vertex_count,
+        "face_count": mesh.face_count,
+        "weld_duplicate_positions": bool(mesh._weld),
+        "sources": source_array.tolist(),
+        "targets": None if target_array is None else target_array.tolist(),
+        "shape": [len(source_array), width],
+        "dtype": str(np.dtype(dtype)),
+        "max_distance": cutoff,
+        "layout": "dense" if cutoff is None else "sparse",
+        "block_rows": rows_per_block,
+        "blocks": math.ceil(len(source_array) / rows_per_block),
+        "zarr_format": 3 if _zarr_major() >= 3 else 2,
+    }
+    if stored is not None and resume:
+        differences = _differences(stored, settings, block_rows is not None)
+        if differences:
+            raise ValueError(f"the store {path} was made for " + "; ".join(differences) +
+                             ". Use another store, or resume=False to replace this one.")
+    else:
+        if stored is not None:
+            shutil.rmtree(path)
+        _create_store(path, settings, mesh, source_array, target_array)
+    blocks = settings["blocks"]
+    for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
+        shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
+    done = _done_blocks(path, blocks)
+    if verify:
+        for block in [b for b in done if not _block_intact(path, settings, b)]:
+            shutil.rmtree(path / "done" / _block_name(block))  # its marker goes first: computed again below
+            shutil.rmtree(path / "csr" / _block_name(block), ignore_errors=True)  # pieces are kept, not rewritten
+            done.remove(block)
+    todo = sorted(set(range(blocks)) - set(done))
+    options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads}
+    tasks = {b: (str(path), b, (b * rows_per_block, min((b + 1) * rows_per_block, len(source_array))),
+                 source_array[b * rows_per_block:(b + 1) * rows_per_block], options) for b in todo}
+
+    reporter = Reporter(progress, "rows")
+    rows_total = len(source_array)
+    rows_done = rows_total - sum(t[2][1] - t[2][0] for t in tasks.values())
+    if reporter.active:
+        reporter(rows_done, rows_total)
+
+    def finished(block: int) -> None:
+        nonlocal rows_done
+        rows_done += tasks[block][2][1] - tasks[block][2][0]
+        if reporter.active:
+            reporter(rows_done, rows_total)
+
+    try:
+        if tasks:
+            context = _Context(mesh, target_array)
+            reference = _StoreReference(str(path), settings["mesh_sha256"], target_array is not None, uuid.uuid4().hex)
+            _run(client, tasks, context, reference, retries, finished)
+    except BaseException:
+        reporter.abandon()
+        raise
+    if reporter.active:
+        reporter.finish(rows_total)
+    return MatrixRun(str(path), blocks, tuple(sorted(todo)), tuple(done))
+
+
+def _dask_client_type() -> Optional[type]:
+    try:
+        from distributed import Client
+    except ImportError:
+        return None
+    return Client
+
+
+def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference, retries: int, finished) -> None:
+    if client is None:
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError:
+            raise ImportError(_MISSING_EXTRA) from None
+        # No dashboard; the scheduler's HTTP server (health checks) on a free loopback port, not 8787.
+        cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False})
+        with cluster, Client(cluster) as own:
+            _run_dask(own, tasks, context, retries, finished)
+        return
+    client_type = _dask_client_type()
+    if client_type is not None and isinstance(client, client_type):
+        _run_dask(client, tasks, context, retries, finished)
+    elif isinstance(client, concurrent.futures.Executor):
+        _run_executor(client, tasks, reference, retries, finished)
+    else:
+        raise TypeError(f"client must be None, a dask.distributed Client or a concurrent.futures.Executor, "
+                        f"not {type(client).__name__}")
+
+
+def _run_dask(client: Any, tasks: dict, context: _Context, retries: int, finished) -> None:
+    from distributed import as_completed
+
+    shared = client.scatter(context, broadcast=True, hash=False)  # the mesh goes to each worker once
+    run = uuid.uuid4().hex[:8]
+    futures = {}
+    for block, arguments in tasks.items():
+        future = client.submit(_compute_block, shared, *arguments, key=f"exactgeo-block-{run}-{block}",
+                               retries=retries, pure=False)
+        futures[future] = block
+    try:
+        for future in as_completed(list(futures)):
+            future.result()  # raises the block's error once its retries are spent
+            finished(futures[future])
+    except BaseException:
+        client.cancel(list(futures))
+        raise
+
+
+def _run_executor(executor: concurrent.futures.Executor, tasks: dict, reference: _StoreReference, retries: int,
+                  finished) -> None:
+    attempts = {block: 0 for block in tasks}
+    pending = {executor.submit(_compute_block, reference, *arguments): block for block, arguments in tasks.items()}
+    try:
+        while pending:
+            complete, _ = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
+            for future in complete:
+                block = pending.pop(future)
+                error = future.exception()
+                if error is None:
+                    finished(block)
+                elif isinstance(error, concurrent.futures.BrokenExecutor) or attempts[block] >= retries:
+                    raise error
+                else:
+                    attempts[block] += 1
+                    pending[executor.submit(_compute_block, reference, *tasks[block])] = block
+    except BaseException:
+        for future in pending:
+            future.cancel()
+        raise
+
+
+# Reading a store.
+
+
+def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
+    """Which blocks of the store are done and which are missing (a run with resume=True computes those).
+    `verify=True` also reads each done block's data and checks it against the sha256 its marker recorded:
+    blocks that differ are `corrupt` and counted as missing (a run with verify=True computes them again).
+    ValueError if `store` is not an exactgeo distance matrix store."""
+    path = Path(os.fspath(store)).absolute()
+    settings = _stored_settings(path)
+    if settings is None:
+        raise ValueError(f"{path} holds no exactgeo distance matrix store")
+    done = _done_blocks(path, settings["blocks"])
+    corrupt = tuple(b for b in done if not _block_intact(path, settings, b)) if verify else ()
+    done = [b for b in done if b not in corrupt]
+    missing = tuple(sorted(set(range(settings["blocks"])) - set(done)))
+    return StoreStatus(str(path), settings["layout"], tuple(settings["shape"]), settings["dtype"],
+                       settings["block_rows"], settings["blocks"], tuple(done), missing, corrupt)
+
+
+def _marker_record(path: Path, block: int) -> Optional[dict]:
+    folder = path / "done" / _block_name(block)
+    try:
+        if (folder / "zarr.json").is_file():
+            with open(folder / "zarr.json") as file:
+                return json.load(file).get("attributes")
+        with open(folder / ".zattrs") as file:
+            return json.load(file)
+    except (OSError, ValueError):
+        return None
+
+
+def _block_intact(path: Path, settings: dict, block: int) -> bool:
+    """The block's data hashes to the sha256 its marker recorded."""
+    record = _marker_record(path, block)
+    if not isinstance(record, dict) or "sha256" not in record:
+        return False
+    digest = hashlib.sha256()
+    try:
+        if settings["max_distance"] is None:
+            start, stop = record["rows"]
+            values = _open_array(path / "distances")[start:stop, :]
+            digest.update(np.ascontiguousarray(values, dtype=settings["dtype"]).tobytes())
+        else:
+            group = path / "csr" / _block_name(block)
+            for name, dtype in (("data", settings["dtype"]), ("indices", np.uint32), ("indptr", np.int64)):
+                array = _open_array(group / name)
+                values = array[...] if array.shape[0] else np.zeros(0, dtype=dtype)
+                digest.update(np.ascontiguousarray(values, dtype=dtype).tobytes())
+    except Exception:  # a chunk or piece that cannot be read is not intact either
+        return False
+    return digest.hexdigest() == record["sha256"]
+
+
+def read_sparse(store: StorePath, rows: Union[slice, range, None] = None) -> Any:
+    """The sparse matrix of a store made with max_distance, as a scipy.sparse.csr_array: all rows, or
+    `rows` (a slice or range with step 1), reading only the blocks that hold them. ValueError naming the
+    blocks not done if some are needed."""
+    import scipy.sparse
+
+    status = store_status(store)
+    path = Path(status.store)
+    if status.layout != "sparse":
+        raise ValueError(f"{path} holds a dense matrix (no max_distance): read its 'distances' array with zarr")
+    total, width = status.shape
+    if rows is None:
+        start, stop = 0, total
+    else:
+        if isinstance(rows, range):
+            rows = slice(rows.start, rows.stop, rows.step)
+        if not isinstance(rows, slice):
+            raise TypeError(f"rows must be a slice or a range, not {type(rows).__name__}")
+        start, stop, step = rows.indices(total)
+        if step != 1:
+            raise ValueError(f"rows must be consecutive (step 1), not {rows!r}")
+        stop = max(start, stop)
+    first, last = start // status.block_rows, (stop - 1) // status.block_rows if stop > start else -1
+    needed = range(first, last + 1)
+    missing = [b for b in needed if b in set(status.missing)]
+    if missing:
+        raise ValueError(f"{path}: blocks {missing} are not done (rows {start} to {stop}); run "
+                         "distance_matrix_to_zarr again with resume=True")
+    data, indices, indptr = [], [], [np.zeros(1, dtype=np.int64)]
+    offset = 0
+    for block in needed:
+        group = path / "csr" / _block_name(block)
+        piece_ptr = np.asarray(_open_array(group / "indptr")[...], dtype=np.int64)
+        low = max(start, block * status.block_rows) - block * status.block_rows
+        high = min(stop, (block + 1) * status.block_rows) - block * status.block_rows
+        a, b = int(piece_ptr[low]), int(piece_ptr[high])
+        nnz_data = _open_array(group / "data")
+        nnz_indices = _open_array(group / "indices")
+        data.append(np.asarray(nnz_data[a:b]) if b > a else np.zeros(0, dtype=status.dtype))
+        indices.append(np.asarray(nnz_indices[a:b]) if b > a else np.zeros(0, dtype=np.uint32))
+        indptr.append(piece_ptr[low + 1:high + 1] - a + offset)
+        offset += b - a
+    values = np.concatenate(data).astype(status.dtype, copy=False)
+    columns = np.concatenate(indices).astype(np.int64)
+    return scipy.sparse.csr_array((values, columns, np.concatenate(indptr)), shape=(stop - start, width))
+
+__all__ = ["MatrixRun", "StoreStatus", "distance_matrix_to_zarr", "mesh_hash", "read_sparse", "store_status"]
