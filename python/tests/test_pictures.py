@@ -100,8 +100,22 @@ def test_the_built_in_ramp_without_matplotlib(tmp_path, grid_with_inf, monkeypat
     np.testing.assert_allclose(_pictures.ramp_rgb(np.array([0.125]))[0] * 255, [63.5, 41.5, 111.5])
     with pytest.raises(ValueError, match="cmap 'magma' needs matplotlib"):
         exactgeo.save_ply(tmp_path / "m.ply", mesh, d, cmap="magma")
-    with pytest.raises(ImportError, match=r"pip install exactgeo\[plot\]"):
-        exactgeo.plot(mesh, d)
+
+
+
+def test_plot_without_matplotlib_names_the_extra():
+    # In a fresh interpreter: once other tests have imported matplotlib, blocking it here would not be enough.
+    script = (
+        "import sys; sys.modules['matplotlib'] = None\n"
+        "import exactgeo\n"
+        "mesh = exactgeo.Mesh(*exactgeo.make_grid(2, 2, 1.0, 1.0))\n"
+        "try:\n"
+        "    exactgeo.plot(mesh, exactgeo.distance(mesh, 0))\n"
+        "except ImportError as e:\n"
+        "    print(e)\n"
+    )
+    output = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True).stdout
+    assert "pip install exactgeo[plot]" in output
 
 
 def test_matplotlib_and_the_built_in_ramp_agree_closely():
