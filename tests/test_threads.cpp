@@ -63,15 +63,20 @@ void expect_same_for_every_thread_count(const std::string& what,
 }
 
 TEST(Threads, EveryVariantGivesTheSameDistancesOnEveryThreadCount) {
-  for (const auto& [name, mesh] : generated_meshes())
+  for (const auto& entry : generated_meshes()) {
+    const std::string& name = entry.first;  // not a structured binding: lambdas capture these on every compiler
+    const Mesh& mesh = entry.second;
     for (const GeodesicOptions& variant : exactgeo_test::kAllVariants)
       expect_same_for_every_thread_count(name + ", " + exactgeo_test::variant_label(variant),
                                          [&](const GeodesicOptions& o) { return exactgeo::geodesic_distance(mesh, 0, o); },
                                          variant);
+  }
 }
 
 TEST(Threads, SeveralSourcesLabelsAndPointSources) {
-  for (const auto& [name, mesh] : generated_meshes()) {
+  for (const auto& entry : generated_meshes()) {
+    const std::string& name = entry.first;  // not a structured binding: lambdas capture these on every compiler
+    const Mesh& mesh = entry.second;
     const auto n = static_cast<std::uint32_t>(mesh.vertex_count());
     const std::vector<std::uint32_t> vertices = {0, n / 2, n - 1};
     expect_same_for_every_thread_count(name + ", three source vertices", [&](const GeodesicOptions& o) {
@@ -86,7 +91,9 @@ TEST(Threads, SeveralSourcesLabelsAndPointSources) {
 }
 
 TEST(Threads, CutOffsAndTargets) {
-  for (const auto& [name, mesh] : generated_meshes()) {
+  for (const auto& entry : generated_meshes()) {
+    const std::string& name = entry.first;  // not a structured binding: lambdas capture these on every compiler
+    const Mesh& mesh = entry.second;
     const double radius = exactgeo_test::max_finite(exactgeo::geodesic_distance(mesh, 0).distances) / 3;
     expect_same_for_every_thread_count(name + ", cut-off", [&](const GeodesicOptions& o) {
       return exactgeo::geodesic_distance(mesh, 0, o);
@@ -102,7 +109,9 @@ TEST(Threads, CutOffsAndTargets) {
 }
 
 TEST(Threads, PathsHaveTheLengthOfTheirDistance) {
-  for (const auto& [name, mesh] : generated_meshes()) {
+  for (const auto& entry : generated_meshes()) {
+    const std::string& name = entry.first;  // not a structured binding: lambdas capture these on every compiler
+    const Mesh& mesh = entry.second;
     exactgeo::GeodesicSolver solver(mesh);
     const std::uint32_t source = 0;
     const GeodesicResult& result = solver.solve(std::span(&source, 1), {}, {.threads = 3});
