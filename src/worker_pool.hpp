@@ -162,8 +162,11 @@ inline void WorkerPool::work(unsigned thread) {
         worker_pool_detail::pause_briefly();
         continue;
       }
+      // wait_for rather than wait: GCC 12 exports condition_variable::wait under a symbol version newer
+      // than manylinux_2_34 allows, while the timed wait is inline (pthread_cond_clockwait).
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return worker_pool_detail::batch_of(next_.load(std::memory_order_acquire)) != seen; });
+      while (worker_pool_detail::batch_of(next_.load(std::memory_order_acquire)) == seen)
+        wake_.wait_for(lock, std::chrono::milliseconds(100));
     }
     seen = worker_pool_detail::batch_of(next_.load(std::memory_order_acquire));
     if (stopping_) return;
