@@ -3,6 +3,7 @@ exactgeo.plot (headless), and the docs' pictures script."""
 
 from __future__ import annotations
 
+import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -144,8 +145,9 @@ def test_wrong_lengths_are_named(tmp_path, grid_with_inf):
     mesh, d = grid_with_inf
     with pytest.raises(ValueError, match="got 24 values, but the mesh has 25 vertices"):
         exactgeo.save_ply(tmp_path / "d.ply", mesh, d[:-1])
-    with pytest.raises(ValueError, match="got 24 values, but the mesh has 25 vertices"):
-        exactgeo.plot(mesh, d[:-1])
+    if importlib.util.find_spec("matplotlib"):  # plot checks its values once it has matplotlib
+        with pytest.raises(ValueError, match="got 24 values, but the mesh has 25 vertices"):
+            exactgeo.plot(mesh, d[:-1])
     with pytest.raises(ValueError, match="plain name"):
         exactgeo.save_ply(tmp_path / "d.ply", mesh, d, value_name="geodesic distance")
     assert not (tmp_path / "d.ply").exists()
