@@ -4,11 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <string>
-#include <thread>
 
 #include "exactgeo/error.hpp"
 #include "surface_point.hpp"
 #include "vtp_engine.hpp"
+#include "worker_pool.hpp"
 
 namespace exactgeo {
 
@@ -32,7 +32,7 @@ void detail::check_options(const GeodesicOptions& options) {
 }
 
 unsigned recommended_threads(const Mesh& mesh) {
-  return mesh.face_count() >= kParallelFaceCount ? std::max(1u, std::thread::hardware_concurrency()) : 1;
+  return mesh.face_count() >= kParallelFaceCount ? detail::threads_or_cores(0) : 1;
 }
 
 namespace {

@@ -14,6 +14,7 @@
 #include "stop.hpp"
 #include "surface_point.hpp"
 #include "vtp_engine.hpp"
+#include "worker_pool.hpp"
 
 namespace exactgeo {
 
@@ -30,7 +31,7 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
   const std::size_t columns = options.target_vertices ? targets.size() : mesh.vertex_count();
   // More threads than rows would only hold idle solvers (each as large as the mesh).
   const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(
-      options.threads ? options.threads : std::thread::hardware_concurrency(), 1, std::max<std::size_t>(1, source_vertices.size())));
+      detail::threads_or_cores(options.threads), 1, std::max<std::size_t>(1, source_vertices.size())));
   const std::size_t block_rows = std::max<std::size_t>(1, options.block_rows ? options.block_rows : 4 * threads);
   std::vector<double> block;
   std::vector<GeodesicSolver> solvers;

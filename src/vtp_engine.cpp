@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
-#include <thread>
 
 #include "assert.hpp"
 #include "phase_timer.hpp"
@@ -142,7 +141,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
       relax(v, 0.0, Arrival{v});
     }
   }
-  const unsigned threads = options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
+  const unsigned threads = threads_or_cores(options.threads);
   if (face_sorted_) {
     run_face_sorted();
   } else if (threads > 1) {
@@ -421,30 +420,39 @@ void VtpEngine::cross(std::uint32_t h) {
   // Read in place: nothing below changes the lists until this one is cleared.
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
-  const FaceFrame frame = face_frame(h);
-  const std::uint32_t a = mesh_.tail(h), b = mesh_.head(h), c = mesh_.apex(h);
   const bool prime = face_visited_at_[face_of(h)] == iteration_;
   ApexReach reach;
-  {
-    const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
-    reach = reach_apex(incoming, frame, splits_);
-  }
-  EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
-  const Window& best = incoming[reach.window];
-  relax(c, reach.distance, Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py});
-  if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
-
+  Arrival at_apex;
   to_ac_.clear();
   to_bc_.clear();
+  std::uint64_t propagations;
   {
     const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
-    (prime ? stats_.prime_propagations : stats_.secondary_propagations) +=
-        cross_face(incoming, splits_, frame, reach, options_.rule1, {distance_[a], distance_[b], distance_[c]},
-                   tolerances_, to_ac_, to_bc_);
+    propagations = cross_list(h, incoming, splits_, to_ac_, to_bc_, reach, at_apex);
   }
+  relax(mesh_.apex(h), reach.distance, at_apex);
+  if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
+  (prime ? stats_.prime_propagations : stats_.secondary_propagations) += propagations;
   lists_.clear(h);
-  deliver(prev_halfedge(h), to_ac_, a, prime);
-  deliver(next_halfedge(h), to_bc_, b, prime);
+  deliver(prev_halfedge(h), to_ac_, mesh_.tail(h), prime);
+  deliver(next_halfedge(h), to_bc_, mesh_.head(h), prime);
+}
+
+// Crosses `incoming`, the list entering face(h), into to_ac and to_bc (splits: scratch space) and returns the
+// window propagations; `reach` and `at_apex` say how the list reaches the opposite corner C. The corners'
+// distances are read as they stand, C's as it is once the list has offered its own there. Changes nothing
+// of the engine's, so the parallel rounds call it from several threads at once.
+std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
+                                    std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
+                                    Arrival& at_apex) const {
+  const FaceFrame frame = face_frame(h);
+  reach = reach_apex(incoming, frame, splits);
+  EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
+  const Window& best = incoming[reach.window];
+  at_apex = Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py};
+  const CornerDistances corners = {distance_[mesh_.tail(h)], distance_[mesh_.head(h)],
+                                   std::min(distance_[mesh_.apex(h)], reach.distance)};
+  return cross_face(incoming, splits, frame, reach, options_.rule1, corners, tolerances_, to_ac, to_bc);
 }
 
 // Hands windows that crossed to `side` (a halfedge of the face just crossed; their frame has `origin` at

@@ -101,6 +101,9 @@ class VtpEngine {
   void drain();
   void drain_in_rounds();
   void cross(std::uint32_t h);
+  std::uint64_t cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
+                           std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
+                           Arrival& at_apex) const;
   void deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime);
 
   // How windows crossing an edge join the list on its other side, halfedge `edge` (kNone: a boundary edge,

@@ -133,20 +133,11 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
   c.had_windows = true;
-  const FaceFrame frame = face_frame(h);
-  c.reach = reach_apex(incoming, frame, scratch.splits);
-  EXACTGEO_ASSERT(c.reach.window < incoming.size());  // some window reaches C
-  // Copied here so that the sequential pass over the round need not read the windows again.
-  const Window& best = incoming[c.reach.window];
-  c.at_apex = Arrival{best.pseudo_source, h, c.reach.separating_point, best.px, best.py};
   const std::array<std::uint32_t, 2> sides = {prev_halfedge(h), next_halfedge(h)};
   const std::array<std::uint32_t, 2> origins = {mesh_.tail(h), mesh_.head(h)};
-  // The corner C as the sequential engine sees it, once this list has offered its distance there.
-  const double at_c = std::min(distance_[mesh_.apex(h)], c.reach.distance);
   for (std::uint32_t side = 0; side < 2; ++side) c.begin[side] = static_cast<std::uint32_t>(scratch.crossed[side].size());
-  c.propagations = cross_face(incoming, scratch.splits, frame, c.reach, options_.rule1,
-                              {distance_[origins[0]], distance_[origins[1]], at_c}, tolerances_, scratch.crossed[0],
-                              scratch.crossed[1]);
+  // The arrival at the opposite corner is kept so that the sequential pass need not read the windows again.
+  c.propagations = cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], c.reach, c.at_apex);
   const bool prime = face_visited_at_[face_of(h)] == iteration_;
   for (std::uint32_t side = 0; side < 2; ++side) {
     std::vector<Window>& crossed = scratch.crossed[side];

@@ -19,6 +19,11 @@
 
 namespace exactgeo::detail {
 
+// The thread count a setting asks for: 0 means one per core (one where the count of cores is unknown).
+inline unsigned threads_or_cores(unsigned threads) {
+  return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
 class WorkerPool {
  public:
   // `threads` in all, the calling thread included.
