@@ -160,8 +160,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
 }
 
 // Vertex-sorted (VTP, OPVTP): each iteration pops the nearest wavefront vertex and adds all its faces.
-// Flattened: the steps the one-thread loop shares with the parallel rounds (enclose_vertex, cross_list,
-// hand_over, join) are functions of their own, and their calls cost the one-thread run 2-5% of its time
+// Flattened: the steps the one-thread loop shares with the parallel rounds (move_inside, cross_list,
+// hand_over, join, ...) are functions of their own, and their calls cost the one-thread run 2-5% of its time
 // (measured against the engine before it had rounds); inlined here, it is level with that engine again.
 [[gnu::flatten]] void VtpEngine::run_vertex_sorted() {
   while (!vertex_queue_.empty()) {
@@ -180,12 +180,20 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
 // v, just taken from the queue, moves inside: as a pseudo-source it emits, and its faces join the traversed
 // area.
 void VtpEngine::enclose_vertex(std::uint32_t v) {
+  move_inside(v);
+  if (bends_paths(v)) emit(v);
+  enter_faces_of(v);
+}
+
+void VtpEngine::move_inside(std::uint32_t v) {
   // A vertex's state only moves forward (unseen, queued, inside): only queued vertices are in the queue.
   EXACTGEO_ASSERT(state_[v] == VertexState::queued);
   state_[v] = VertexState::inside;
   ++stats_.vertex_pops;
   checkpoint(stats_.vertex_pops, static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
-  if (bends_paths(v)) emit(v);
+}
+
+void VtpEngine::enter_faces_of(std::uint32_t v) {
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
     if (face_visited_at_[f] == kNone) enter_face(f);
@@ -380,21 +388,45 @@ void VtpEngine::emit(std::uint32_t v) {
   if (distance_[v] > cutoff_) return;
   emitted_at_[v] = distance_[v];
   ++stats_.pseudo_source_emissions;
+  for_each_emission_part(
+      v, [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
+      [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
+}
+
+// The parts of v's emission at its present distance, in order: offer(u, distance, arrival) for each
+// neighbour u, place(g, window) for each window. Reads only the mesh and v's distance and arrival.
+template <class Offer, class Place>
+void VtpEngine::for_each_emission_part(std::uint32_t v, Offer&& offer, Place&& place) const {
+  const double d = distance_[v];
   const ShadowCone cone = shadow_cone(mesh_, v, arrival_[v]);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t c = mesh_.vertex_corners[i];  // halfedge leaving v
     const std::uint32_t opposite = next_halfedge(c), back = prev_halfedge(c);
-    relax(mesh_.head(c), distance_[v] + mesh_.halfedges[c].length,
-          Arrival{v, back, std::nan(""), mesh_.halfedges[back].length, 0});
-    relax(mesh_.apex(c), distance_[v] + mesh_.halfedges[back].length, Arrival{v, c, std::nan(""), 0, 0});
+    offer(mesh_.head(c), d + mesh_.halfedges[c].length, Arrival{v, back, std::nan(""), mesh_.halfedges[back].length, 0});
+    offer(mesh_.apex(c), d + mesh_.halfedges[back].length, Arrival{v, c, std::nan(""), 0, 0});
     const std::uint32_t g = mesh_.twin[opposite];
     if (g == kNone) continue;
     const HalfedgeGeometry& o = mesh_.halfedges[opposite];
     const auto [b0, b1] = cone.part_of_opposite_edge(mesh_, c);
     if (!(b1 - b0 > tolerances_.min_width)) continue;
-    place_new_window(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, distance_[v], v}, o.length,
-                                      mesh_.tail(g) != mesh_.tail(opposite)));
+    place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh_.tail(g) != mesh_.tail(opposite)));
   }
+}
+
+// The parallel bands' emission in two steps: collected on any thread (appended to `out`), applied in
+// order on one. Together they do what emit does, with v's distance when collected.
+void VtpEngine::collect_emission(std::uint32_t v, Emission& out) const {
+  for_each_emission_part(
+      v, [&](std::uint32_t u, double d, const Arrival& arrival) { out.offers.push_back({u, d, arrival}); },
+      [&](std::uint32_t g, const Window& w) { out.windows.push_back({g, w}); });
+}
+
+void VtpEngine::apply_emission(std::uint32_t v, double at, std::span<const EmissionOffer> offers,
+                               std::span<const EmittedWindow> windows) {
+  emitted_at_[v] = at;
+  ++stats_.pseudo_source_emissions;
+  for (const EmissionOffer& offer : offers) relax(offer.vertex, offer.distance, offer.arrival);
+  for (const EmittedWindow& emitted : windows) place_new_window(emitted.edge, emitted.window);
 }
 
 void VtpEngine::drain() {

@@ -85,6 +85,8 @@ class VtpEngine {
   void run_vertex_sorted();
   void run_vertex_sorted_in_bands(unsigned threads);
   void enclose_vertex(std::uint32_t v);
+  void move_inside(std::uint32_t v);
+  void enter_faces_of(std::uint32_t v);
   void run_face_sorted();
   void checkpoint(std::uint64_t pops, double fraction);
   void enter_face(std::uint32_t f);
@@ -97,6 +99,29 @@ class VtpEngine {
   void schedule(std::uint32_t h);
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
   void emit(std::uint32_t v);
+  // A pseudo-source's emission: the distances it offers its neighbours and the windows it places.
+  struct EmissionOffer {
+    std::uint32_t vertex;
+    double distance;
+    Arrival arrival;
+  };
+  struct EmittedWindow {
+    std::uint32_t edge;
+    Window window;
+  };
+  struct Emission {
+    std::vector<EmissionOffer> offers;
+    std::vector<EmittedWindow> windows;
+    void clear() {
+      offers.clear();
+      windows.clear();
+    }
+  };
+  template <class Offer, class Place>
+  void for_each_emission_part(std::uint32_t v, Offer&& offer, Place&& place) const;
+  void collect_emission(std::uint32_t v, Emission& out) const;
+  void apply_emission(std::uint32_t v, double at, std::span<const EmissionOffer> offers,
+                      std::span<const EmittedWindow> windows);
   void emit_lowered_pseudo_source();
   void drain();
   void drain_in_rounds();
@@ -174,12 +199,24 @@ class VtpEngine {
   struct alignas(64) ThreadScratch {  // a cache line of its own: each thread writes its own often
     std::vector<double> splits;
     std::array<std::vector<Window>, 2> crossed;
+    Emission emitted;  // the band's emissions this thread collected
     GeodesicStats stats;  // its pruning time
   };
   double band_width_ = 0;  // engine lengths: the wavefront advances by about one edge per band
   std::unique_ptr<WorkerPool> pool_;
   std::vector<ThreadScratch> scratch_;
   std::vector<std::uint32_t> round_;
+  // The vertices a band moves inside, in order, and where the emission each collected lies (if it emits).
+  struct BandEmission {
+    bool emits;
+    std::uint32_t thread;
+    double at;  // the distance it was collected with
+    std::uint32_t offers_begin, offers_end, windows_begin, windows_end;
+  };
+  std::vector<std::uint32_t> band_;
+  std::vector<BandEmission> band_emissions_;
+  void enclose_band();
+  void collect_in_band(std::size_t i, unsigned thread);
   std::vector<RoundCrossing> crossings_;
   std::vector<RoundJoin> joins_;
   std::vector<std::uint32_t> join_of_edge_;  // per halfedge: its entry in joins_ this round, or kNone

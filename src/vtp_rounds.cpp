@@ -39,17 +39,55 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
     ++stats_.parallel_bands;
     ++iteration_;  // one iteration per band: all its faces are new to the traversed area
     const double band_end = vertex_queue_.top_key() + band_width_;
+    band_.clear();
     do {
       std::uint32_t v;
       {
         const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
         v = vertex_queue_.pop();
       }
-      enclose_vertex(v);
+      move_inside(v);
+      band_.push_back(v);
     } while (!vertex_queue_.empty() && vertex_queue_.top_key() <= band_end);
+    enclose_band();
     drain_in_rounds();
   }
   for (const ThreadScratch& s : scratch_) stats_.pruning_seconds += s.stats.pruning_seconds;
+}
+
+// The band's vertices emit and their faces join the traversed area, in the band's order, as enclose_vertex
+// does for one vertex. Their emissions are collected first, in parallel, each with its vertex's distance as
+// the band found it; one lowered by an earlier vertex of the band emits again at the lower distance (Paper
+// Section 5.2, third scenario), like any pseudo-source inside.
+void VtpEngine::enclose_band() {
+  for (ThreadScratch& s : scratch_) s.emitted.clear();
+  band_emissions_.resize(band_.size());
+  pool_->run(band_.size(), [this](std::size_t i, unsigned thread) { collect_in_band(i, thread); });
+  for (std::size_t i = 0; i < band_.size(); ++i) {
+    const BandEmission& e = band_emissions_[i];
+    if (e.emits) {
+      const Emission& emitted = scratch_[e.thread].emitted;
+      apply_emission(band_[i], e.at,
+                     std::span(emitted.offers).subspan(e.offers_begin, e.offers_end - e.offers_begin),
+                     std::span(emitted.windows).subspan(e.windows_begin, e.windows_end - e.windows_begin));
+    }
+    enter_faces_of(band_[i]);
+  }
+}
+
+void VtpEngine::collect_in_band(std::size_t i, unsigned thread) {
+  const std::uint32_t v = band_[i];
+  BandEmission& e = band_emissions_[i];
+  e.emits = bends_paths(v) && distance_[v] <= cutoff_;
+  if (!e.emits) return;
+  Emission& emitted = scratch_[thread].emitted;
+  e.thread = thread;
+  e.at = distance_[v];
+  e.offers_begin = static_cast<std::uint32_t>(emitted.offers.size());
+  e.windows_begin = static_cast<std::uint32_t>(emitted.windows.size());
+  collect_emission(v, emitted);
+  e.offers_end = static_cast<std::uint32_t>(emitted.offers.size());
+  e.windows_end = static_cast<std::uint32_t>(emitted.windows.size());
 }
 
 void VtpEngine::drain_in_rounds() {
