@@ -416,8 +416,12 @@ void VtpEngine::for_each_emission_part(std::uint32_t v, Offer&& offer, Place&& p
 // The parallel bands' emission in two steps: collected on any thread (appended to `out`), applied in
 // order on one. Together they do what emit does, with v's distance when collected.
 void VtpEngine::collect_emission(std::uint32_t v, Emission& out) const {
+  // Distances only fall: an offer that does not lower its vertex's distance now never will.
   for_each_emission_part(
-      v, [&](std::uint32_t u, double d, const Arrival& arrival) { out.offers.push_back({u, d, arrival}); },
+      v,
+      [&](std::uint32_t u, double d, const Arrival& arrival) {
+        if (d < distance_[u]) out.offers.push_back({u, d, arrival});
+      },
       [&](std::uint32_t g, const Window& w) { out.windows.push_back({g, w}); });
 }
 

@@ -181,6 +181,8 @@ class VtpEngine {
     std::uint32_t halfedge;
     std::uint32_t thread;  // whose buffers hold the crossed windows
     bool had_windows;
+    bool prime;         // the list crosses a face new in this iteration
+    bool lowers_apex;   // its distance to the opposite corner is below that corner's at the round's start
     ApexReach reach;
     Arrival at_apex;       // how the list's best path reaches the opposite corner
     std::uint64_t propagations;

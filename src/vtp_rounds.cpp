@@ -116,10 +116,10 @@ void VtpEngine::drain_in_rounds() {
       const RoundCrossing& c = crossings_[i];
       const std::uint32_t h = c.halfedge;
       if (!c.had_windows) continue;
-      relax(mesh_.apex(h), c.reach.distance, c.at_apex);
+      // Distances only fall: a list that did not lower its opposite corner at the round's start cannot now.
+      if (c.lowers_apex) relax(mesh_.apex(h), c.reach.distance, c.at_apex);
       if (!face_target_offsets_.empty()) evaluate_targets(h, lists_.view(h));
-      const bool prime = face_visited_at_[face_of(h)] == iteration_;
-      (prime ? stats_.prime_propagations : stats_.secondary_propagations) += c.propagations;
+      (c.prime ? stats_.prime_propagations : stats_.secondary_propagations) += c.propagations;
       lists_.clear(h);
       for (std::uint32_t side = 0; side < 2; ++side) {
         const std::uint32_t edge = c.handover[side].edge;
@@ -142,10 +142,7 @@ void VtpEngine::drain_in_rounds() {
       for (std::uint32_t k = 0; k < entry.deliveries; ++k) {
         const RoundCrossing& c = crossings_[entry.delivery[k].crossing];
         const Handover& to = c.handover[entry.delivery[k].side];
-        if (to.joining != Joining::inside && size > 0) {
-          const bool prime = face_visited_at_[face_of(c.halfedge)] == iteration_;
-          ++(prime ? stats_.prime_merges : stats_.secondary_merges);
-        }
+        if (to.joining != Joining::inside && size > 0) ++(c.prime ? stats_.prime_merges : stats_.secondary_merges);
         size += to.count;
       }
       lists_.extend(entry.edge, size - old_size);
@@ -167,7 +164,7 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
   RoundCrossing& c = crossings_[i];
   const std::uint32_t h = round_[i];
-  c = RoundCrossing{h, thread, false, {}, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
+  c = RoundCrossing{h, thread, false, false, false, {}, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
   c.had_windows = true;
@@ -176,12 +173,13 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   for (std::uint32_t side = 0; side < 2; ++side) c.begin[side] = static_cast<std::uint32_t>(scratch.crossed[side].size());
   // The arrival at the opposite corner is kept so that the sequential pass need not read the windows again.
   c.propagations = cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], c.reach, c.at_apex);
-  const bool prime = face_visited_at_[face_of(h)] == iteration_;
+  c.lowers_apex = c.reach.distance < distance_[mesh_.apex(h)];
+  c.prime = face_visited_at_[face_of(h)] == iteration_;
   for (std::uint32_t side = 0; side < 2; ++side) {
     std::vector<Window>& crossed = scratch.crossed[side];
     const std::span<Window> windows(crossed.data() + c.begin[side], crossed.size() - c.begin[side]);
     if (windows.empty()) continue;
-    c.handover[side] = hand_over(sides[side], windows, origins[side], prime);
+    c.handover[side] = hand_over(sides[side], windows, origins[side], c.prime);
     crossed.resize(c.begin[side] + c.handover[side].count);  // the next crossing's windows follow the kept ones
   }
 }
