@@ -16,8 +16,8 @@ Measured, in this process:
   for every Dask run above and for blocks of one row on a 128-vertex torus (trivial work);
 - peak memory per worker: each worker process's peak RSS during the run (VmHWM, reset once the worker has
   exactgeo, numpy, zarr and dask imported), less its RSS at that point (the baseline, reported too), against
-  one block's float32 bytes plus the mesh's bytes (its arrays and the RSS that building the Mesh added in this
-  process);
+  one block's float32 bytes plus the mesh's bytes (its arrays and the RSS that building the Mesh adds to a fresh
+  process), with the engine's own peak window memory from the first source beside them;
 - nefertiti all-pairs: the first --subset-blocks blocks of the all-pairs store's layout on 2 workers; time and
   size (du) of the whole store extrapolated from them. --nefertiti-all-pairs STORE runs the whole store (or
   continues it: resume=True), then adds what the store says (blocks done, their seconds, du) to the report;
@@ -44,7 +44,6 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
-import psutil
 import zarr
 from distributed import Client, LocalCluster
 
@@ -63,7 +62,7 @@ kTinyTorus = (16, 4)  # make_bumpy_torus(16, 4): 64 vertices, 128 faces
 kTinyBlocks = 128
 kExtrapolatedVertices = 160_000
 kExtrapolatedCores = (64, 512)
-kDistributedPackages = ["numpy", "dask", "distributed", "zarr", "psutil"]
+kDistributedPackages = ["numpy", "dask", "distributed", "zarr"]
 
 
 # ------------------------------------------------------------------------------------------ on the workers
@@ -150,16 +149,29 @@ def in_process(mesh: exactgeo.Mesh, sources: np.ndarray, threads: int) -> tuple[
     return {"wall_seconds": time.perf_counter() - start}, matrix
 
 
-def mesh_bytes(vertices: np.ndarray, faces: np.ndarray) -> tuple[exactgeo.Mesh, int]:
-    """The Mesh and what it holds: its vertex and face arrays plus the RSS its construction added here."""
-    before = psutil.Process().memory_info().rss
-    mesh = exactgeo.Mesh(vertices, faces)
-    grown = psutil.Process().memory_info().rss - before
-    return mesh, int(np.asarray(mesh.vertices).nbytes + np.asarray(mesh.faces).nbytes + max(0, grown))
+kMeshBytesCode = """
+import sys
+import numpy as np
+import exactgeo
+from distributed_matrix import status_bytes
+
+vertices, faces = np.load(sys.argv[1]), np.load(sys.argv[2])
+before = status_bytes("VmRSS")
+mesh = exactgeo.Mesh(vertices, faces)
+print(vertices.nbytes + faces.nbytes + status_bytes("VmRSS") - before)
+"""
 
 
-def load_mesh(mesh: BenchMesh) -> tuple[exactgeo.Mesh, int]:
-    return mesh_bytes(np.load(mesh.vertices_path), np.load(mesh.triangles_path))
+def mesh_bytes(mesh: BenchMesh) -> int:
+    """What a Mesh holds: its vertex and face arrays plus the RSS building it adds, in a fresh process (in this
+    one, memory freed earlier would hide part of it)."""
+    done = subprocess.run([sys.executable, "-c", kMeshBytesCode, str(mesh.vertices_path), str(mesh.triangles_path)],
+                          capture_output=True, text=True, check=True, cwd=kBenchDir)
+    return int(done.stdout)
+
+
+def load_mesh(mesh: BenchMesh) -> exactgeo.Mesh:
+    return exactgeo.Mesh(np.load(mesh.vertices_path), np.load(mesh.triangles_path))
 
 
 def used_vertices(mesh: exactgeo.Mesh) -> np.ndarray:
@@ -169,7 +181,7 @@ def used_vertices(mesh: exactgeo.Mesh) -> np.ndarray:
 def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, runs: int, work: Path) -> dict:
     """The four configurations in turn, `runs` times; medians, ratios, memory against one block plus the mesh,
     and whether the last store holds the in-process matrix rounded to float32."""
-    mesh, size = load_mesh(bench_mesh)
+    mesh, size = load_mesh(bench_mesh), mesh_bytes(bench_mesh)
     samples: dict[str, list[dict]] = {name: [] for name in kConfigurations}
     store = work / f"{label}.zarr"
     same = True
@@ -202,6 +214,7 @@ def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, run
         "sources": len(sources), "targets": status.shape[1], "block_rows": status.block_rows,
         "blocks": status.blocks, "block_float32_bytes": block_float32,
         "block_float64_bytes": block_float32 * 2, "mesh_bytes": size,
+        "window_bytes": exactgeo.GeodesicSolver(mesh).solve(int(sources[0])).stats.peak_window_bytes,
         "samples": samples, "median_wall_seconds": wall,
         "dask_speedup": wall["dask, 1 worker"] / wall["dask, 2 workers"],
         "in_process_speedup": wall["in-process, 1 thread"] / wall["in-process, 2 threads"],
@@ -250,7 +263,7 @@ def extrapolated(figures: dict, rows: int, blocks: int, workers: int) -> dict | 
 def nefertiti_subset(nefertiti: BenchMesh, blocks: int, block_rows: int | None, work: Path, runs: int) -> dict:
     """The first `blocks` blocks of nefertiti's all-pairs layout on 2 workers (then the tiny blocks on the same
     cluster), and the whole store extrapolated from them."""
-    mesh, _ = load_mesh(nefertiti)
+    mesh = load_mesh(nefertiti)
     sources = used_vertices(mesh)
     rows = block_rows or distributed._default_block_rows(len(sources), mesh.vertex_count, 4)
     store = work / "nefertiti-all-pairs-subset.zarr"
@@ -266,7 +279,7 @@ def nefertiti_subset(nefertiti: BenchMesh, blocks: int, block_rows: int | None, 
 
 def per_source_seconds(bench_mesh: BenchMesh, count: int, runs: int) -> dict:
     """In-process distance_matrix on one thread from `count` seeded sources: the median time per source."""
-    mesh, _ = load_mesh(bench_mesh)
+    mesh = load_mesh(bench_mesh)
     sources = np.array(choose_sources(bench_mesh, count, seed=1))
     times = [in_process(mesh, sources, 1)[0]["wall_seconds"] / len(sources) for _ in range(runs)]
     return {"mesh": bench_mesh.name, "vertices": mesh.vertex_count, "sources": len(sources),
@@ -326,14 +339,16 @@ def benchmark(args: argparse.Namespace, argv: list[str] | None, meshes: dict[str
 def all_pairs_store(args: argparse.Namespace, argv: list[str] | None, nefertiti: BenchMesh) -> dict:
     """Runs or continues nefertiti's all-pairs store; Ctrl-C stops it, keeping the blocks done. The report of
     --name gets what the store says (a new report holds that alone)."""
-    mesh, _ = load_mesh(nefertiti)
+    mesh = load_mesh(nefertiti)
     sources = used_vertices(mesh)
     path = args.results_dir / f"{args.name}.json"
     report = json.loads(path.read_text()) if path.exists() else header(args, argv)
     start = time.perf_counter()
     with contextlib.suppress(KeyboardInterrupt), local_cluster(args.workers) as client:
         distributed.distance_matrix_to_zarr(mesh, sources, args.nefertiti_all_pairs, client=client, resume=True,
-                                            progress=True)
+                                            progress=lambda done, rows: print(f"\r{done:,} of {rows:,} rows", end="",
+                                                                              flush=True))
+    print()
     figures = store_figures(args.nefertiti_all_pairs)
     report["nefertiti_all_pairs_store"] = {
         "store": str(args.nefertiti_all_pairs), "command": command_text("distributed_matrix.py", argv),

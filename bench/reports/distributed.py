@@ -83,10 +83,11 @@ def memory_section(report: dict) -> list[str]:
     lines = ["## Peak memory per worker", "",
              "Growth = a worker process's peak RSS during the run (VmHWM, reset before it) less its RSS once started "
              "with exactgeo, numpy, zarr and dask imported (the baseline: the interpreter's and dask's share, which "
-             "any worker pays); "
-             "the largest over the workers, median over the runs. It is compared with one block as stored (float32) "
-             "plus the mesh (its arrays and the RSS building the Mesh added); target: at most 1. A block is computed "
-             "as float64 before it is rounded, so twice the float32 block is held for a moment as well.", ""]
+             "any worker pays); the largest over the workers, median over the runs. It is compared with one block as "
+             "stored (float32) plus the mesh (its arrays and the RSS building the Mesh adds to a fresh process); "
+             "target: at most 1. A block is computed as float64 before it is rounded, so twice the float32 block is "
+             "held for a moment as well; the engine's windows (its peak window memory from the first source) and "
+             "dask's state of the tasks come on top.", ""]
     rows = []
     for w in report["workloads"]:
         for c in kConfigurations[:2]:
@@ -94,9 +95,11 @@ def memory_section(report: dict) -> list[str]:
             rows.append([w["label"], c[len("dask, "):], format_bytes(m["worker_baseline_rss_bytes"]),
                          format_bytes(m["worker_peak_rss_bytes"]), format_bytes(m["worker_growth_bytes"]),
                          format_bytes(w["block_float32_bytes"]), format_bytes(w["block_float64_bytes"]),
-                         format_bytes(w["mesh_bytes"]), f"{m['growth_vs_block_and_mesh']:.2f}"])
+                         format_bytes(w["mesh_bytes"]), format_bytes(w["window_bytes"]),
+                         f"{m['growth_vs_block_and_mesh']:.2f}"])
     lines += markdown_table(["workload", "cluster", "baseline RSS", "peak RSS", "growth", "block (float32)",
-                             "block (float64, as computed)", "mesh", "growth ÷ (block + mesh)"], rows, "llrrrrrrr")
+                             "block (float64, as computed)", "mesh", "engine's windows", "growth ÷ (block + mesh)"],
+                            rows, "llrrrrrrrr")
     return lines + [""]
 
 
