@@ -50,14 +50,13 @@ from distributed import Client, LocalCluster
 import exactgeo
 from exactgeo import distributed
 from meshes import BenchMesh, kSubdivided, select_meshes
-from reports.distributed import write_markdown
+from reports.distributed import kConfigurations, write_markdown
 from reports.files import write_json_and_markdown
 from reports.machine import command_text, machine_info, setting_text, software_info
 from solvers.runner import choose_sources
 
 kBenchDir = Path(__file__).resolve().parent
 kWorkerCounts = (1, 2)
-kConfigurations = ["dask, 1 worker", "dask, 2 workers", "in-process, 1 thread", "in-process, 2 threads"]
 kTinyTorus = (16, 4)  # make_bumpy_torus(16, 4): 64 vertices, 128 faces
 kTinyBlocks = 128
 kExtrapolatedVertices = 160_000
@@ -174,8 +173,9 @@ def load_mesh(mesh: BenchMesh) -> exactgeo.Mesh:
     return exactgeo.Mesh(np.load(mesh.vertices_path), np.load(mesh.triangles_path))
 
 
-def used_vertices(mesh: exactgeo.Mesh) -> np.ndarray:
-    return np.unique(np.asarray(mesh.faces)).astype(np.int64)
+def used_vertices(faces: np.ndarray) -> np.ndarray:
+    """The vertices a face uses: the all-pairs sources (distance_matrix refuses a vertex no face uses)."""
+    return np.unique(faces).astype(np.int64)
 
 
 def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, runs: int, work: Path) -> dict:
@@ -186,12 +186,11 @@ def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, run
     store = work / f"{label}.zarr"
     same = True
     for run in range(runs):
-        for workers in kWorkerCounts:
-            samples[f"dask, {workers} worker{'s' if workers > 1 else ''}"].append(
-                on_dask(mesh, sources, store, workers))
-        for threads in kWorkerCounts:
+        for name, workers in zip(kConfigurations[:2], kWorkerCounts):
+            samples[name].append(on_dask(mesh, sources, store, workers))
+        for name, threads in zip(kConfigurations[2:], kWorkerCounts):
             result, matrix = in_process(mesh, sources, threads)
-            samples[f"in-process, {threads} thread{'s' if threads > 1 else ''}"].append(result)
+            samples[name].append(result)
         same = same and bool(np.array_equal(zarr.open_array(str(store / "distances"), mode="r")[...],
                                             matrix.astype(np.float32)))
         print(f"{label} run {run + 1}: " + ", ".join(f"{name} {s[-1]['wall_seconds']:.2f} s"
@@ -227,7 +226,7 @@ def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, run
 
 
 def tiny_blocks(client, work: Path, runs: int) -> dict:
-    """Blocks of one row on a 128-vertex torus, on 2 workers: the work is trivial, what is left is overhead."""
+    """128 blocks of one row on a 64-vertex torus, on 2 workers: the work is trivial, what is left is overhead."""
     mesh = exactgeo.Mesh(*exactgeo.make_bumpy_torus(*kTinyTorus))
     sources = np.resize(np.arange(mesh.vertex_count), kTinyBlocks)
     results = [into_store(client, mesh, sources, work / "tiny.zarr", 2, block_rows=1) for _ in range(runs)]
@@ -264,7 +263,7 @@ def nefertiti_subset(nefertiti: BenchMesh, blocks: int, block_rows: int | None, 
     """The first `blocks` blocks of nefertiti's all-pairs layout on 2 workers (then the tiny blocks on the same
     cluster), and the whole store extrapolated from them."""
     mesh = load_mesh(nefertiti)
-    sources = used_vertices(mesh)
+    sources = used_vertices(mesh.faces)
     rows = block_rows or distributed._default_block_rows(len(sources), mesh.vertex_count, 4)
     store = work / "nefertiti-all-pairs-subset.zarr"
     with local_cluster(2) as client:
@@ -322,7 +321,7 @@ def benchmark(args: argparse.Namespace, argv: list[str] | None, meshes: dict[str
     work = args.work_dir.resolve() / "runs" / "distributed"
     work.mkdir(parents=True, exist_ok=True)
     all_pairs_mesh = meshes[args.all_pairs_mesh]
-    all_pairs_sources = np.unique(np.load(all_pairs_mesh.triangles_path)).astype(np.int64)
+    all_pairs_sources = used_vertices(np.load(all_pairs_mesh.triangles_path))
     many = np.array(choose_sources(meshes["nefertiti"], args.sources, seed=1))
     report["workloads"] = [measure_workload("all-pairs", all_pairs_mesh, all_pairs_sources, args.runs, work),
                            measure_workload("many-sources", meshes["nefertiti"], many, args.runs, work)]
@@ -340,7 +339,7 @@ def all_pairs_store(args: argparse.Namespace, argv: list[str] | None, nefertiti:
     """Runs or continues nefertiti's all-pairs store; Ctrl-C stops it, keeping the blocks done. The report of
     --name gets what the store says (a new report holds that alone)."""
     mesh = load_mesh(nefertiti)
-    sources = used_vertices(mesh)
+    sources = used_vertices(mesh.faces)
     path = args.results_dir / f"{args.name}.json"
     report = json.loads(path.read_text()) if path.exists() else header(args, argv)
     start = time.perf_counter()
