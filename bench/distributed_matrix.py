@@ -256,7 +256,7 @@ def extrapolated(figures: dict, rows: int, blocks: int, workers: int) -> dict | 
     growing = figures["disk_bytes"] - figures["fixed_disk_bytes"]
     return {"core_seconds": core_seconds, "wall_seconds": core_seconds / workers, "workers": workers,
             "disk_bytes": figures["fixed_disk_bytes"] + growing / figures["blocks_done"] * blocks,
-            "uncompressed_bytes": rows * rows * 4}
+            "uncompressed_bytes": rows * figures["columns"] * 4}
 
 
 def nefertiti_subset(nefertiti: BenchMesh, blocks: int, block_rows: int | None, work: Path, runs: int) -> dict:
