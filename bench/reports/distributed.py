@@ -167,7 +167,7 @@ def extrapolation_section(report: dict) -> list[str]:
                              for cores, c in e["cores"].items()], "rrr")
     lines += ["", "Assumptions: one single-threaded worker per core, each as fast as one core here; perfect scaling "
               "across nodes (blocks independent, each node holding the mesh once); the shared filesystem takes the "
-              "output at the bandwidth above (chunks compressed less than that); the sources' cost as the fitted "
+              "output at the bandwidth above (compressed chunks need somewhat less); the sources' cost as the fitted "
               "per-source time, whatever their spread on the surface.", ""]
     return lines
 
