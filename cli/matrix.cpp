@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "command.hpp"
 #include "inputs.hpp"
@@ -37,11 +38,12 @@ int print_store_status(const std::string& store) {
   const StoreStatus status = read_store_status(store);
   const nlohmann::ordered_json& settings = status.settings;
   const nlohmann::ordered_json shape = settings.value("shape", nlohmann::ordered_json::array());
+  const nlohmann::ordered_json max_distance = settings.value("max_distance", nlohmann::ordered_json());
   print_table({{"store", std::filesystem::absolute(store).string()},
                {"layout", settings.value("layout", std::string("?"))},
                {"shape", shape.size() == 2 ? shape[0].dump() + " x " + shape[1].dump() : shape.dump()},
                {"dtype", settings.value("dtype", std::string("?"))},
-               {"max distance", settings.value("max_distance", nlohmann::ordered_json()).dump()},
+               {"max distance", max_distance.is_null() ? "none" : max_distance.dump()},
                {"block rows", settings.value("block_rows", nlohmann::ordered_json()).dump()},
                {"blocks", std::to_string(status.done.size() + status.missing.size())},
                {"done", std::to_string(status.done.size()) + ": " + block_ranges(status.done)},
@@ -154,32 +156,33 @@ Command add_matrix_command(CLI::App& app) {
       "again and replaced whole)");
   CLI::Option* dtype = command->add_option("--dtype", arguments->dtype,
                                            ".zarr: float32 (default: the float64 distances rounded) or float64")
-                           ->check(CLI::IsMember({"float32", "float64"}))
+                           ->check(CLI::IsMember({"float32", "float64"}).description(""))
                            ->type_name("float32|float64");
   CLI::Option* block_rows =
       command->add_option("--block-rows", arguments->block_rows,
                           ".zarr: rows per block, each one chunk and one marker (default: the store's; for a new "
                           "store at most 32 MiB a chunk, 4096 rows, some 32 blocks or more)")
           ->check(count_check())
-          ->check(CLI::PositiveNumber)
           ->type_name("B");
   command->add_flag("--quiet", arguments->quiet, "No progress line and no summary on stderr");
-  CLI::Option* status =
-      command->add_option("--status", arguments->status,
+  command->add_option("--status", arguments->status,
                           "Report which blocks of the store are done and which are missing, then exit (0: every "
                           "block done, 4: some missing); computes nothing")
           ->type_name("STORE.zarr");
-  for (CLI::Option* option : {sources, targets, max_distance, threads, out, shard, resume, dtype, block_rows})
-    status->excludes(option);
   MatrixArguments* a = arguments.get();
   a->mesh.mesh_unused = [a] { return !a->status.empty(); };
-  a->mesh.checks.push_back([a, shard, resume, dtype, block_rows] {
+  const std::vector<CLI::Option*> computing = {sources, targets, max_distance, threads, out, shard, resume, dtype,
+                                               block_rows};
+  a->mesh.checks.push_back([a, computing, shard, resume, dtype, block_rows] {
     if (!a->status.empty()) {
       if (!a->mesh.name.empty()) throw CLI::ValidationError("--status", "takes a store alone, not a MESH");
+      for (CLI::Option* option : computing)
+        if (option->count()) throw CLI::ValidationError("--status", "takes a store alone, not " + option->get_name());
       return;
     }
     if (a->sources.empty()) throw CLI::RequiredError("--sources");
     if (a->out.empty()) throw CLI::RequiredError("--out");
+    if (block_rows->count() && a->block_rows == 0) throw CLI::ValidationError("--block-rows", "must be at least 1");
     if (has_extension(a->out, ".zarr")) return;
     for (CLI::Option* store_only : {shard, resume, dtype, block_rows})
       if (store_only->count())

@@ -232,6 +232,7 @@ def test_bad_input_is_refused_with_a_clear_message(cli, tmp_path):
         ("--shard", "1-4"): "not a shard I/N",
         ("--shard", "4/4"): "I must be below 4",
         ("--shard", "0/0"): "N, the number of shards, is 0",
+        ("--block-rows", "0"): "must be at least 1",
     }
     for arguments, message in usage.items():
         done = cli_run(*base, tmp_path / "m.zarr", *arguments)
