@@ -17,7 +17,7 @@ a cluster):
                                     targets, dtype, max_distance, block_rows, exactgeo's version)
     STORE/distances                 (sources, targets) array, chunks of (block_rows, all columns): block b is
                                     chunk row b, rows [b * block_rows, (b + 1) * block_rows); NaN where no
-                                    block was written yet (dense matrices only)
+                                    block was written yet (dense matrices only); uncompressed
     STORE/source, STORE/target      int64 vertex index of each row, of each column
     STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
     STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
@@ -29,6 +29,9 @@ a cluster):
 
 A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
 at most blocks without markers, which the next run with resume=True computes again.
+
+The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
+v3), so either can continue a store the other began.
 """
 
 from __future__ import annotations
