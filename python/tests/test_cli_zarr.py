@@ -58,7 +58,6 @@ def test_zarr_reads_the_commands_dense_store_as_distance_matrix(cli, tmp_path, d
     array = zarr.open_array(str(store / "distances"), mode="r")
     assert array.dtype == np.dtype(dtype) and array.chunks == (5, MESH.vertex_count)
     assert np.array_equal(array[...], REFERENCE.astype(dtype))  # float32: the float64 values rounded; inf kept
-    assert np.isinf(array[...]).sum() == 0 or np.isinf(REFERENCE).any()
     settings = zarr.open_group(str(store), mode="r").attrs["exactgeo"]
     assert settings["mesh_sha256"] == distributed.mesh_hash(MESH)
     assert (settings["sources"], settings["targets"], settings["dtype"], settings["blocks"]) == (SOURCES, None, dtype, 7)
