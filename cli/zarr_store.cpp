@@ -48,6 +48,27 @@ fs::path temporary_beside(const fs::path& final) {
   return final.parent_path() / ("." + final.filename().string() + suffix);
 }
 
+// Builds a folder at a hidden name beside `final`, then renames it into place, so that it appears whole.
+// False if a folder was there first (the one built is then removed): rename(2) replaces an empty folder and
+// fails on a full one. Nothing is left behind if building fails.
+template <class Build>
+bool build_folder_into_place(const fs::path& final, const Build& build) {
+  const fs::path building = temporary_beside(final);
+  std::error_code ignored;
+  try {
+    fs::create_directories(building);
+    build(building);
+  } catch (...) {
+    fs::remove_all(building, ignored);
+    throw;
+  }
+  if (std::rename(building.c_str(), final.c_str()) == 0) return true;
+  const int reason = errno;
+  fs::remove_all(building, ignored);
+  if (reason == EEXIST || reason == ENOTEMPTY) return false;
+  throw io_error("cannot write '" + final.string() + "': " + std::strerror(reason));
+}
+
 // The file appears whole or not at all, and its bytes are on disk before it does: a marker renamed into place
 // after it cannot outlive it in a crash.
 void write_whole(const fs::path& path, std::span<const unsigned char> bytes) {
@@ -184,42 +205,38 @@ void check_distances_array(const fs::path& path, const StoreSettings& settings) 
   }
 }
 
-// Builds the whole store in a hidden folder beside `path` and renames it into place. False if another process
-// put a store there first (this one is then discarded).
+// The whole store, built beside `path` and renamed into place. False if another process put a store there
+// first: of processes racing here, one store wins.
 bool create_store(const fs::path& path, const StoreSettings& settings, const exactgeo::Mesh& mesh) {
   if (path.has_parent_path()) fs::create_directories(path.parent_path());
-  const fs::path building = temporary_beside(path);
-  fs::create_directory(building);
-  const Json attributes = {{"exactgeo", settings_json(settings)}};
-  write_json_whole(building / "zarr.json", group_metadata(attributes));
-  const std::size_t rows = settings.sources.size();
-  if (settings.max_distance) {
-    write_group(building / "csr");
-  } else {
-    fs::create_directories(building / "distances" / "c");
-    const std::vector<std::size_t> shape = {rows, settings.columns};
-    const std::vector<std::size_t> chunks = {settings.block_rows, std::max<std::size_t>(1, settings.columns)};
-    write_json_whole(building / "distances" / "zarr.json",
-                     array_metadata(shape, chunks, settings.dtype, "NaN", {"source", "target"}));
-  }
-  const std::vector<std::int64_t> sources(settings.sources.begin(), settings.sources.end());
-  std::vector<std::int64_t> targets(settings.columns);
-  for (std::size_t c = 0; c < targets.size(); ++c) targets[c] = settings.targets ? (*settings.targets)[c] : std::int64_t(c);
-  write_array(building / "source", std::vector<std::size_t>{rows}, "int64", 0, {"source"}, little_endian_bytes(sources));
-  write_array(building / "target", std::vector<std::size_t>{settings.columns}, "int64", 0, {"target"},
-              little_endian_bytes(targets));
-  write_group(building / "mesh");
-  write_array(building / "mesh" / "vertices", std::vector<std::size_t>{mesh.vertex_count(), 3}, "float64", 0.0,
-              {"vertex", "xyz"}, little_endian_bytes(mesh.positions()));
-  write_array(building / "mesh" / "faces", std::vector<std::size_t>{mesh.face_count(), 3}, "uint32", 0,
-              {"face", "corner"}, little_endian_bytes(mesh.triangles()));
-  write_group(building / "done");
-  // rename(2) replaces an empty folder and fails on a full one: of processes racing here, one store wins.
-  if (std::rename(building.c_str(), path.c_str()) == 0) return true;
-  const int reason = errno;
-  fs::remove_all(building);
-  if (reason == EEXIST || reason == ENOTEMPTY) return false;
-  throw io_error("cannot create the store '" + path.string() + "': " + std::strerror(reason));
+  return build_folder_into_place(path, [&](const fs::path& building) {
+    const Json attributes = {{"exactgeo", settings_json(settings)}};
+    write_json_whole(building / "zarr.json", group_metadata(attributes));
+    const std::size_t rows = settings.sources.size();
+    if (settings.max_distance) {
+      write_group(building / "csr");
+    } else {
+      fs::create_directories(building / "distances" / "c");
+      const std::vector<std::size_t> shape = {rows, settings.columns};
+      const std::vector<std::size_t> chunks = {settings.block_rows, std::max<std::size_t>(1, settings.columns)};
+      write_json_whole(building / "distances" / "zarr.json",
+                       array_metadata(shape, chunks, settings.dtype, "NaN", {"source", "target"}));
+    }
+    const std::vector<std::int64_t> sources(settings.sources.begin(), settings.sources.end());
+    std::vector<std::int64_t> targets(settings.columns);
+    for (std::size_t c = 0; c < targets.size(); ++c)
+      targets[c] = settings.targets ? (*settings.targets)[c] : std::int64_t(c);
+    write_array(building / "source", std::vector<std::size_t>{rows}, "int64", 0, {"source"},
+                little_endian_bytes(sources));
+    write_array(building / "target", std::vector<std::size_t>{settings.columns}, "int64", 0, {"target"},
+                little_endian_bytes(targets));
+    write_group(building / "mesh");
+    write_array(building / "mesh" / "vertices", std::vector<std::size_t>{mesh.vertex_count(), 3}, "float64", 0.0,
+                {"vertex", "xyz"}, little_endian_bytes(mesh.positions()));
+    write_array(building / "mesh" / "faces", std::vector<std::size_t>{mesh.face_count(), 3}, "uint32", 0,
+                {"face", "corner"}, little_endian_bytes(mesh.triangles()));
+    write_group(building / "done");
+  });
 }
 
 // Writes a shard's blocks as their rows arrive: each block's data, then its marker.
@@ -321,19 +338,16 @@ class StoreWriter final : public MatrixWriter {
     const std::vector<unsigned char> index_bytes = little_endian_bytes(indices);
     const std::vector<unsigned char> pointer_bytes = little_endian_bytes(indptr);
     for (const auto* bytes : {&data_bytes, &index_bytes, &pointer_bytes}) digest.update(*bytes);
-    const fs::path final = path_ / "csr" / block_name(block);
-    const fs::path building = temporary_beside(final);
-    write_group(building);
-    write_array(building / "data", std::vector<std::size_t>{data.size()}, settings_.dtype, 0.0, {"data"}, data_bytes);
-    write_array(building / "indices", std::vector<std::size_t>{indices.size()}, "uint32", 0, {"indices"}, index_bytes);
-    write_array(building / "indptr", std::vector<std::size_t>{indptr.size()}, "int64", 0, {"indptr"}, pointer_bytes);
-    if (std::rename(building.c_str(), final.c_str()) != 0) {
-      const int reason = errno;
-      fs::remove_all(building);
-      // Another attempt at this block put the same rows there, complete (blocks are deterministic): kept.
-      if (!(reason == EEXIST || reason == ENOTEMPTY))
-        throw io_error("cannot write '" + final.string() + "': " + std::strerror(reason));
-    }
+    // If another attempt at this block put its pieces there first, they are the same rows, complete (blocks
+    // are deterministic): kept.
+    build_folder_into_place(path_ / "csr" / block_name(block), [&](const fs::path& building) {
+      write_group(building);
+      write_array(building / "data", std::vector<std::size_t>{data.size()}, settings_.dtype, 0.0, {"data"}, data_bytes);
+      write_array(building / "indices", std::vector<std::size_t>{indices.size()}, "uint32", 0, {"indices"},
+                  index_bytes);
+      write_array(building / "indptr", std::vector<std::size_t>{indptr.size()}, "int64", 0, {"indptr"},
+                  pointer_bytes);
+    });
     return data.size();
   }
 
