@@ -13,6 +13,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitUsage = 1;
 inline constexpr int kExitInvalidInput = 2;
 inline constexpr int kExitInternal = 3;
+inline constexpr int kExitIncomplete = 4;  // matrix --status: the store has blocks not done yet
 
 inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 ok, 1 usage error, 2 unreadable or invalid input, 3 internal error.";

@@ -33,6 +33,7 @@ struct MeshArguments {
   bool weld = false;
   std::vector<ListOption> lists;
   std::vector<std::function<void()>> checks;  // after parsing; throw CLI::ParseError (a usage error)
+  std::function<bool()> mesh_unused;          // set and true: MESH may be left out (matrix --status)
 };
 void add_mesh_options(CLI::App& command, MeshArguments& mesh);
 

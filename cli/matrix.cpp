@@ -1,12 +1,19 @@
 // exactgeo matrix: distances from many source vertices to every vertex or to target vertices, one source per
-// thread, written block by block (rows: sources, columns: vertices or targets).
+// thread, written block by block (rows: sources, columns: vertices or targets). Into a .zarr store it
+// computes one shard of the row blocks (--shard I/N), so that the tasks of a job array fill one store;
+// --status says which blocks are done.
+#include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
+#include <stdexcept>
+#include <vector>
 
 #include "command.hpp"
 #include "inputs.hpp"
 #include "outputs.hpp"
 #include "progress.hpp"
+#include "zarr_store.hpp"
 
 namespace exactgeo::cli {
 namespace {
@@ -19,9 +26,33 @@ struct MatrixArguments {
   unsigned threads = 0;
   std::string out;
   bool quiet = false;
+  // .zarr stores only.
+  std::string shard;  // "I/N"; empty: the whole matrix (0/1)
+  bool resume = false;
+  std::string dtype = "float32";
+  std::size_t block_rows = 0;  // 0: the store's, or the default for a new one
+  std::string status;          // --status STORE: report on the store, compute nothing
 };
 
+int print_store_status(const std::string& store) {
+  const StoreStatus status = read_store_status(store);
+  const nlohmann::ordered_json& settings = status.settings;
+  const nlohmann::ordered_json shape = settings.value("shape", nlohmann::ordered_json::array());
+  const nlohmann::ordered_json max_distance = settings.value("max_distance", nlohmann::ordered_json());
+  print_table({{"store", std::filesystem::absolute(store).string()},
+               {"layout", settings.value("layout", std::string("?"))},
+               {"shape", shape.size() == 2 ? shape[0].dump() + " x " + shape[1].dump() : shape.dump()},
+               {"dtype", settings.value("dtype", std::string("?"))},
+               {"max distance", max_distance.is_null() ? "none" : max_distance.dump()},
+               {"block rows", settings.value("block_rows", nlohmann::ordered_json()).dump()},
+               {"blocks", std::to_string(status.done.size() + status.missing.size())},
+               {"done", std::to_string(status.done.size()) + ": " + block_ranges(status.done)},
+               {"missing", std::to_string(status.missing.size()) + ": " + block_ranges(status.missing)}});
+  return status.missing.empty() ? kExitOk : kExitIncomplete;
+}
+
 int run_matrix(const MatrixArguments& arguments) {
+  if (!arguments.status.empty()) return print_store_status(arguments.status);
   const LoadedMesh loaded = load_mesh(arguments.mesh);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const std::vector<std::uint32_t> sources = parse_vertex_list(arguments.sources, "--sources");
@@ -29,20 +60,53 @@ int run_matrix(const MatrixArguments& arguments) {
   options.geodesic.max_distance = arguments.max_distance;
   options.threads = arguments.threads;
   if (!arguments.targets.empty()) options.target_vertices = parse_vertex_list(arguments.targets, "--targets");
-  Progress progress("rows", sources.size(), arguments.quiet);
   const std::size_t columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
   std::span<const std::uint32_t> targets;
   if (options.target_vertices) targets = *options.target_vertices;
   // Checked before the output is created, so that a bad vertex leaves an existing file as it was.
+  for (std::uint32_t v : sources) exactgeo::vertex_point(mesh, v);
   for (std::uint32_t v : targets) exactgeo::vertex_point(mesh, v);
+  StoreRequest store{.mesh = &mesh,
+                     .weld = arguments.mesh.weld,
+                     .max_distance = std::nullopt,
+                     .dtype = arguments.dtype,
+                     .block_rows = arguments.block_rows,
+                     .shard = arguments.shard.empty() ? Shard{} : parse_shard(arguments.shard),
+                     .resume = arguments.resume,
+                     .quiet = arguments.quiet};
+  if (std::isfinite(arguments.max_distance)) store.max_distance = arguments.max_distance;
   const std::unique_ptr<MatrixWriter> writer =
-      find_format(kMatrixFormats, arguments.out)->write(arguments.out, {sources, targets, columns});
-  exactgeo::for_each_distance_block(mesh, sources, options, [&](std::size_t first, std::span<const double> rows) {
-    writer->write_rows(first, rows);
-    progress.update(first + (columns ? rows.size() / columns : 0));
-  });
+      find_format(kMatrixFormats, arguments.out)->write(arguments.out, {sources, targets, columns}, store);
+  const std::vector<RowRange> ranges = writer->row_ranges(sources.size());
+  std::size_t rows_wanted = 0, rows_done = 0;
+  for (const RowRange& range : ranges) rows_wanted += range.end - range.first;
+  Progress progress("rows", rows_wanted, arguments.quiet);
+  for (const RowRange& range : ranges) {
+    const auto range_sources = std::span(sources).subspan(range.first, range.end - range.first);
+    exactgeo::for_each_distance_block(mesh, range_sources, options, [&](std::size_t first, std::span<const double> rows) {
+      writer->write_rows(range.first + first, rows);
+      rows_done += columns ? rows.size() / columns : 0;
+      progress.update(rows_done);
+    });
+  }
+  progress.finish();
   writer->finish();
   return kExitOk;
+}
+
+// A check for --shard: "I/N" with I below N.
+const CLI::Validator& shard_check() {
+  static const CLI::Validator check(
+      [](std::string& text) -> std::string {
+        try {
+          parse_shard(text);
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+        return {};
+      },
+      "", "shard");
+  return check;
 }
 
 }  // namespace
@@ -52,35 +116,80 @@ Command add_matrix_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "matrix", "Distances from many source vertices to every vertex (or to target vertices), in parallel");
   add_mesh_options(*command, arguments->mesh);
-  add_list_option(*command, arguments->mesh, "--sources", arguments->sources,
-                  "Source vertices (the rows), as files or lists, separated by spaces, newlines, ',' or ';', or a CSV "
-                  "file with a vertex column (as sample --out s.csv writes)")
-      ->required()
-      ->type_name("FILE|LIST");
-  add_list_option(*command, arguments->mesh, "--targets", arguments->targets,
-                  "Target vertices (the columns, in their order; default every vertex), in the same forms; each "
-                  "run stops once they are final")
-      ->type_name("FILE|LIST");
-  command->add_option("--max-distance", arguments->max_distance,
-                      "Cut-off: entries beyond it are inf (or left out), targets too (leave it out to have every "
-                      "target's distance)")
-      ->check(distance_check())
-      ->type_name("R");
-  command->add_option("--threads", arguments->threads, "Worker threads (default: one per core; never more than sources)")
-      ->check(count_check())
-      ->type_name("T");
-  add_output_option(*command, "--out", arguments->out,
-                    "Write the matrix (rows: sources, columns: vertices or targets): .npy (dense float64, the "
-                    "matrix alone), .npz (scipy.sparse CSR of the finite entries, with arrays sources and targets "
-                    "naming the rows' and columns' vertices) or .csv (source,vertex,distance or with targets "
-                    "source,target,distance: row and column numbers of the finite entries; - writes it to stdout)",
-                    kMatrixFormats, "matrix")
-      ->required();
-  command->add_flag("--quiet", arguments->quiet, "No progress line on stderr");
-  arguments->mesh.checks.push_back([a = arguments.get()] {
+  CLI::Option* sources = add_list_option(
+      *command, arguments->mesh, "--sources", arguments->sources,
+      "Source vertices (the rows), as files or lists, separated by spaces, newlines, ',' or ';', or a CSV "
+      "file with a vertex column (as sample --out s.csv writes)")->type_name("FILE|LIST");
+  CLI::Option* targets = add_list_option(
+      *command, arguments->mesh, "--targets", arguments->targets,
+      "Target vertices (the columns, in their order; default every vertex), in the same forms; each "
+      "run stops once they are final")->type_name("FILE|LIST");
+  CLI::Option* max_distance =
+      command->add_option("--max-distance", arguments->max_distance,
+                          "Cut-off: entries beyond it are inf (or left out), targets too (leave it out to have every "
+                          "target's distance)")
+          ->check(distance_check())
+          ->type_name("R");
+  CLI::Option* threads =
+      command->add_option("--threads", arguments->threads, "Worker threads (default: one per core; never more than sources)")
+          ->check(count_check())
+          ->type_name("T");
+  CLI::Option* out = add_output_option(
+      *command, "--out", arguments->out,
+      "Write the matrix (rows: sources, columns: vertices or targets): .npy (dense float64, the "
+      "matrix alone), .npz (scipy.sparse CSR of the finite entries, with arrays sources and targets "
+      "naming the rows' and columns' vertices), .csv (source,vertex,distance or with targets "
+      "source,target,distance: row and column numbers of the finite entries; - writes it to stdout) or .zarr "
+      "(a Zarr store folder, the layout exactgeo.distributed writes: dense, or with --max-distance CSR pieces per "
+      "block of rows; several processes can fill it, see --shard)",
+      kMatrixFormats, "matrix");
+  CLI::Option* shard =
+      command->add_option("--shard", arguments->shard,
+                          ".zarr: compute the I-th of N interleaved sets of row blocks (blocks B with B % N == I), "
+                          "e.g. --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT; the N shards, run in any "
+                          "order, at the same time or not, fill the store (default 0/1: every block)")
+          ->check(shard_check())
+          ->type_name("I/N");
+  CLI::Option* resume = command->add_flag(
+      "--resume", arguments->resume,
+      ".zarr: skip the blocks already marked done in the store (without it, the shard's blocks are computed "
+      "again and replaced whole)");
+  CLI::Option* dtype = command->add_option("--dtype", arguments->dtype,
+                                           ".zarr: float32 (default: the float64 distances rounded) or float64")
+                           ->check(CLI::IsMember({"float32", "float64"}).description(""))
+                           ->type_name("float32|float64");
+  CLI::Option* block_rows =
+      command->add_option("--block-rows", arguments->block_rows,
+                          ".zarr: rows per block, each one chunk and one marker (default: the store's; for a new "
+                          "store at most 32 MiB a chunk, 4096 rows, some 32 blocks or more)")
+          ->check(count_check())
+          ->type_name("B");
+  command->add_flag("--quiet", arguments->quiet, "No progress line and no summary on stderr");
+  command->add_option("--status", arguments->status,
+                          "Report which blocks of the store are done and which are missing, then exit (0: every "
+                          "block done, 4: some missing); computes nothing")
+          ->type_name("STORE.zarr");
+  MatrixArguments* a = arguments.get();
+  a->mesh.mesh_unused = [a] { return !a->status.empty(); };
+  const std::vector<CLI::Option*> computing = {sources, targets, max_distance, threads, out, shard, resume, dtype,
+                                               block_rows};
+  a->mesh.checks.push_back([a, computing, shard, resume, dtype, block_rows] {
+    if (!a->status.empty()) {
+      if (!a->mesh.name.empty()) throw CLI::ValidationError("--status", "takes a store alone, not a MESH");
+      for (CLI::Option* option : computing)
+        if (option->count()) throw CLI::ValidationError("--status", "takes a store alone, not " + option->get_name());
+      return;
+    }
     if (a->sources.empty()) throw CLI::RequiredError("--sources");
+    if (a->out.empty()) throw CLI::RequiredError("--out");
+    if (block_rows->count() && a->block_rows == 0) throw CLI::ValidationError("--block-rows", "must be at least 1");
+    if (has_extension(a->out, ".zarr")) return;
+    for (CLI::Option* store_only : {shard, resume, dtype, block_rows})
+      if (store_only->count())
+        throw CLI::ValidationError(store_only->get_name(), "applies to .zarr stores only, not '" + a->out + "'");
   });
-  command->footer(kExitCodesHelp);
+  command->footer(std::string(kExitCodesHelp) + " matrix --status: 0 when every block is done, " +
+                  std::to_string(kExitIncomplete) + " when some are missing.");
   return {command, [arguments] { return run_matrix(*arguments); }};
 }
 

@@ -6,6 +6,7 @@
 
 #include "npy.hpp"
 #include "outputs.hpp"
+#include "zarr_store.hpp"
 
 namespace exactgeo::cli {
 namespace {
@@ -104,20 +105,21 @@ class NpzMatrixWriter final : public MatrixWriter {
   std::size_t entries_ = 0;  // in the blocks before
 };
 
-std::unique_ptr<MatrixWriter> make_npy(const std::string& path, const MatrixAxes& axes) {
+std::unique_ptr<MatrixWriter> make_npy(const std::string& path, const MatrixAxes& axes, const StoreRequest&) {
   return std::make_unique<NpyMatrixWriter>(path, axes);
 }
-std::unique_ptr<MatrixWriter> make_npz(const std::string& path, const MatrixAxes& axes) {
+std::unique_ptr<MatrixWriter> make_npz(const std::string& path, const MatrixAxes& axes, const StoreRequest&) {
   return std::make_unique<NpzMatrixWriter>(path, axes);
 }
-std::unique_ptr<MatrixWriter> make_csv(const std::string& path, const MatrixAxes& axes) {
+std::unique_ptr<MatrixWriter> make_csv(const std::string& path, const MatrixAxes& axes, const StoreRequest&) {
   return std::make_unique<CsvMatrixWriter>(path, axes);
 }
 
-constexpr std::array<Format<MatrixWriterFactory>, 3> kMatrixFormatTable = {{
+constexpr std::array<Format<MatrixWriterFactory>, 4> kMatrixFormatTable = {{
     {".npy", make_npy},
     {".npz", make_npz},
     {".csv", make_csv},
+    {".zarr", open_matrix_store},  // a folder, shared by the shards of a job array
 }};
 
 }  // namespace

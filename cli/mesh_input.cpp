@@ -110,7 +110,7 @@ void add_mesh_options(CLI::App& command, MeshArguments& mesh) {
       mesh.name = *named;
       list.values->erase(std::next(named).base());
     }
-    if (mesh.name.empty()) throw CLI::RequiredError("MESH");
+    if (mesh.name.empty() && !(mesh.mesh_unused && mesh.mesh_unused())) throw CLI::RequiredError("MESH");
     // A malformed built-in name is a usage error; file paths are checked when read.
     if (mesh.name.starts_with('@') && !parse_builtin_mesh(mesh.name))
       throw CLI::ValidationError("MESH", "unknown built-in mesh '" + mesh.name +

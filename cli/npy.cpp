@@ -54,6 +54,12 @@ void write_npy(std::FILE* file, std::string_view descr, std::span<const std::siz
 std::vector<unsigned char> little_endian_bytes(std::span<const double> values) {
   return bytes_of<double, std::uint64_t>(values);
 }
+std::vector<unsigned char> little_endian_bytes(std::span<const float> values) {
+  return bytes_of<float, std::uint32_t>(values);
+}
+std::vector<unsigned char> little_endian_bytes(std::span<const std::uint32_t> values) {
+  return bytes_of<std::uint32_t, std::uint32_t>(values);
+}
 std::vector<unsigned char> little_endian_bytes(std::span<const std::int32_t> values) {
   return bytes_of<std::int32_t, std::uint32_t>(values);
 }

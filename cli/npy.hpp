@@ -20,8 +20,10 @@ std::string npy_header(std::string_view descr, std::span<const std::size_t> shap
 void write_npy(std::FILE* file, std::string_view descr, std::span<const std::size_t> shape,
                std::span<const unsigned char> data);
 
-// Little-endian bytes of values, as .npy data.
+// Little-endian bytes of values, as .npy data and Zarr chunks.
 std::vector<unsigned char> little_endian_bytes(std::span<const double> values);
+std::vector<unsigned char> little_endian_bytes(std::span<const float> values);
+std::vector<unsigned char> little_endian_bytes(std::span<const std::uint32_t> values);
 std::vector<unsigned char> little_endian_bytes(std::span<const std::int32_t> values);
 std::vector<unsigned char> little_endian_bytes(std::span<const std::int64_t> values);
 

@@ -118,10 +118,17 @@ extern const std::span<const Format<PathWriter>> kPathFormats;  // .csv .obj .js
 using SamplesWriter = void (*)(std::FILE*, const exactgeo::Sampling&);
 extern const std::span<const Format<SamplesWriter>> kSamplesFormats;  // .txt .csv .npy
 
+// Rows [first, end) of a matrix.
+struct RowRange {
+  std::size_t first, end;
+};
+
 // A distance matrix arriving in blocks of whole rows (sources x vertices), written as it comes.
 class MatrixWriter {
  public:
   virtual ~MatrixWriter() = default;
+  // The rows it wants, in order: every row for a file; a store's shard (less the blocks done, when resuming).
+  virtual std::vector<RowRange> row_ranges(std::size_t rows) const { return {{0, rows}}; }
   virtual void write_rows(std::size_t first_row, std::span<const double> rows) = 0;
   // Completes the file; until then it is not a valid result.
   virtual void finish() = 0;
@@ -133,8 +140,10 @@ struct MatrixAxes {
   std::span<const std::uint32_t> targets;
   std::size_t columns;
 };
-using MatrixWriterFactory = std::unique_ptr<MatrixWriter> (*)(const std::string& path, const MatrixAxes& axes);
-extern const std::span<const Format<MatrixWriterFactory>> kMatrixFormats;  // .npy .npz .csv
+struct StoreRequest;  // what a .zarr store needs besides (zarr_store.hpp); files leave it aside
+using MatrixWriterFactory = std::unique_ptr<MatrixWriter> (*)(const std::string& path, const MatrixAxes& axes,
+                                                              const StoreRequest& store);
+extern const std::span<const Format<MatrixWriterFactory>> kMatrixFormats;  // .npy .npz .csv .zarr
 
 // %.17g round-trips every double; unreachable is written "inf" on every platform.
 void print_distance(std::FILE* file, double distance);

@@ -17,7 +17,7 @@ a cluster):
                                     targets, dtype, max_distance, block_rows, exactgeo's version)
     STORE/distances                 (sources, targets) array, chunks of (block_rows, all columns): block b is
                                     chunk row b, rows [b * block_rows, (b + 1) * block_rows); NaN where no
-                                    block was written yet (dense matrices only)
+                                    block was written yet (dense matrices only); uncompressed
     STORE/source, STORE/target      int64 vertex index of each row, of each column
     STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
     STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
@@ -29,6 +29,9 @@ a cluster):
 
 A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
 at most blocks without markers, which the next run with resume=True computes again.
+
+The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
+v3), so either can continue a store the other began.
 """
 
 from __future__ import annotations
@@ -120,13 +123,17 @@ def _open_array(path: Path, mode: str = "r") -> Any:
 
 
 def _new_array(group: Any, name: str, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any,
-               fill_value: Any, dimensions: Sequence[str]) -> Any:
-    """An array in `group` (replacing one of that name); dimension names as xarray reads them in both formats."""
+               fill_value: Any, dimensions: Sequence[str], compressed: bool = True) -> Any:
+    """An array in `group` (replacing one of that name); dimension names as xarray reads them in both formats.
+    `compressed=False` stores the chunks as raw little-endian bytes."""
     chunks = tuple(max(1, c) for c in chunks)
     if _zarr_major() >= 3:
+        codecs = {} if compressed else {"compressors": None}
         return group.create_array(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
-                                  dimension_names=list(dimensions), overwrite=True)
-    array = group.create_dataset(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value, overwrite=True)
+                                  dimension_names=list(dimensions), overwrite=True, **codecs)
+    codecs = {} if compressed else {"compressor": None}
+    array = group.create_dataset(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value, overwrite=True,
+                                 **codecs)
     array.attrs["_ARRAY_DIMENSIONS"] = list(dimensions)
     return array
 
@@ -241,8 +248,9 @@ def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, t
     root = _open_group(path, "w")
     rows, width = settings["shape"]
     if settings["max_distance"] is None:
+        # Uncompressed, so that `exactgeo matrix --shard` jobs (cli/zarr_store.cpp) can write blocks into it too.
         _new_array(root, "distances", (rows, width), (settings["block_rows"], width), settings["dtype"], float("nan"),
-                   ("source", "target"))
+                   ("source", "target"), compressed=False)
     else:
         root.create_group("csr")
     _array_of(root, "source", sources.astype(np.int64), ("source",))

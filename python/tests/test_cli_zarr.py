@@ -1,0 +1,254 @@
+"""`exactgeo matrix --out M.zarr --shard I/N`: the command writes the store layout of exactgeo.distributed
+(cli/zarr_store.cpp), which zarr-python and exactgeo.distributed read and continue, and the other way round."""
+
+from __future__ import annotations
+
+import json
+import random
+import re
+import shutil
+import signal
+import subprocess
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import CLI, run_cli, write_obj
+
+import exactgeo
+
+try:
+    import zarr
+except ImportError:
+    pytest.skip("reading Zarr stores needs zarr: pip install 'exactgeo[distributed]'", allow_module_level=True)
+
+from exactgeo import distributed
+
+TORUS = "@torus:24:12"
+MESH = exactgeo.Mesh(*exactgeo.make_bumpy_torus(24, 12))  # what TORUS generates: the same arrays, the same hash
+SOURCES = list(range(0, 288, 9))  # 32 rows
+SOURCE_LIST = ",".join(map(str, SOURCES))
+REFERENCE = exactgeo.distance_matrix(MESH, SOURCES)
+
+
+def cli_run(*arguments: object) -> subprocess.CompletedProcess:
+    """The command, whatever its exit code."""
+    return subprocess.run([str(CLI), *map(str, arguments)], capture_output=True, text=True)
+
+
+def dense(store: Path) -> np.ndarray:
+    return zarr.open_array(str(store / "distances"), mode="r")[...]
+
+
+def computed_blocks(stderr: str) -> int:
+    """The count in the command's summary line: '... shard I/N: C blocks computed, R reused ...'."""
+    return int(re.search(r"(\d+) blocks computed", stderr).group(1))
+
+
+def tree(folder: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+@pytest.mark.parametrize("dtype", ["float32", "float64"])
+def test_zarr_reads_the_commands_dense_store_as_distance_matrix(cli, tmp_path, dtype):
+    store = tmp_path / "d.zarr"
+    run_cli("matrix", TORUS, "--sources", SOURCE_LIST, "--dtype", dtype, "--block-rows", 5, "--out", store)
+    array = zarr.open_array(str(store / "distances"), mode="r")
+    assert array.dtype == np.dtype(dtype) and array.chunks == (5, MESH.vertex_count)
+    assert np.array_equal(array[...], REFERENCE.astype(dtype))  # float32: the float64 values rounded; inf kept
+    settings = zarr.open_group(str(store), mode="r").attrs["exactgeo"]
+    assert settings["mesh_sha256"] == distributed.mesh_hash(MESH)
+    assert (settings["sources"], settings["targets"], settings["dtype"], settings["blocks"]) == (SOURCES, None, dtype, 7)
+    assert zarr.open_array(str(store / "source"), mode="r")[...].tolist() == SOURCES
+    assert np.array_equal(zarr.open_array(str(store / "mesh" / "vertices"), mode="r")[...], MESH.vertices)
+    status = distributed.store_status(store, verify=True)  # the markers' sha256 are the chunks' bytes
+    assert status.complete and status.corrupt == () and status.done == tuple(range(7))
+
+
+def test_the_commands_sparse_store_and_targets_read_back_as_distance_matrix(cli, tmp_path):
+    store = tmp_path / "s.zarr"
+    run_cli("matrix", TORUS, "--sources", SOURCE_LIST, "--max-distance", 0.6, "--dtype", "float64", "--block-rows", 6,
+            "--out", store, "--quiet")
+    reference = exactgeo.distance_matrix(MESH, SOURCES, max_distance=0.6)
+    got = distributed.read_sparse(store)
+    assert got.dtype == np.float64 and got.shape == reference.shape
+    assert np.array_equal(got.indptr, reference.indptr) and np.array_equal(got.indices, reference.indices)
+    assert np.array_equal(got.data, reference.data)
+    assert distributed.store_status(store, verify=True).corrupt == ()
+    targets = [5, 200, 3]
+    run_cli("matrix", TORUS, "--sources", SOURCE_LIST, "--targets", "5,200,3", "--out", tmp_path / "t.zarr", "--quiet")
+    assert np.array_equal(dense(tmp_path / "t.zarr"), REFERENCE[:, targets].astype(np.float32))
+    assert zarr.open_array(str(tmp_path / "t.zarr" / "target"), mode="r")[...].tolist() == targets
+
+
+def test_shards_in_shuffled_order_some_at_once_give_the_whole_matrix(cli, tmp_path):
+    store = tmp_path / "m.zarr"
+    shards = list(range(5))
+    random.Random(17).shuffle(shards)
+    command = [str(CLI), "matrix", TORUS, "--sources", SOURCE_LIST, "--dtype", "float64", "--block-rows", 3,
+               "--threads", 1, "--out", store]
+    # Three shards start together on a path with no store yet: one makes it, the others join it.
+    together = [subprocess.Popen([*map(str, command), "--shard", f"{i}/5"], stderr=subprocess.PIPE, text=True)
+                for i in shards[:3]]
+    errors = [process.communicate()[1] for process in together]
+    assert [process.returncode for process in together] == [0, 0, 0], errors
+    for i in shards[3:]:
+        run_cli(*command[1:], "--shard", f"{i}/5")
+    assert np.array_equal(dense(store), REFERENCE)
+    assert distributed.store_status(store).done == tuple(range(11))
+    assert [p.name for p in tmp_path.iterdir()] == ["m.zarr"]  # the losers' stores were removed
+    status = cli_run("matrix", "--status", store)
+    assert status.returncode == 0 and re.search(r"done +11: 0-10\n", status.stdout)
+    assert re.search(r"missing +0: none", status.stdout) and "dense" in status.stdout
+
+
+def test_an_interrupted_run_resumed_computes_exactly_the_missing_blocks(cli, tmp_path):
+    store = tmp_path / "m.zarr"
+    sources = ",".join(map(str, range(0, 642, 3)))  # 214 rows, 54 blocks
+    command = [str(CLI), "matrix", "@icosphere:3", "--sources", sources, "--block-rows", "4", "--threads", "1",
+               "--out", str(store)]
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and process.poll() is None:
+        if len(list((store / "done").glob("block_*/zarr.json"))) >= 3:
+            break
+        time.sleep(0.005)
+    process.send_signal(signal.SIGINT)
+    process.communicate()
+    assert process.returncode == -signal.SIGINT  # stopped by the signal, not finished
+    before = distributed.store_status(store)
+    assert len(before.done) >= 3 and before.missing
+    assert not [p for p in store.rglob(".*")]  # no half-written chunk or marker left
+    resumed = cli_run(*command[1:], "--resume")
+    assert resumed.returncode == 0, resumed.stderr
+    assert computed_blocks(resumed.stderr) == len(before.missing)
+    assert re.search(rf"{len(before.done)} reused", resumed.stderr)
+    mesh = exactgeo.Mesh(*exactgeo.make_icosphere(3))
+    expected = exactgeo.distance_matrix(mesh, list(range(0, 642, 3))).astype(np.float32)
+    assert np.array_equal(dense(store), expected)
+    # Without --resume, every block of the shard is computed again (and replaced whole).
+    again = cli_run(*command[1:], "--shard", "1/2")
+    assert computed_blocks(again.stderr) == 27 and np.array_equal(dense(store), expected)
+
+
+def test_the_command_and_python_continue_each_others_stores(cli, tmp_path):
+    mesh_file = write_obj(tmp_path / "torus.obj", *exactgeo.make_bumpy_torus(24, 12))
+    mesh = exactgeo.Mesh.load(mesh_file)
+    # Shards 0 and 2 of 3 by the command, then Python's resume computes shard 1's blocks, and only those.
+    store = tmp_path / "c.zarr"
+    for shard in ("2/3", "0/3"):
+        run_cli("matrix", mesh_file, "--sources", SOURCE_LIST, "--block-rows", 4, "--out", store, "--shard", shard)
+    with ThreadPoolExecutor(2) as executor:
+        run = distributed.distance_matrix_to_zarr(mesh, SOURCES, store, client=executor)
+    assert run.computed == (1, 4, 7) and len(run.reused) == 5
+    assert np.array_equal(dense(store), REFERENCE.astype(np.float32))
+    # A store Python started (stopped after 3 blocks), finished by the command with --resume.
+    for max_distance, layout in ((None, "dense"), (0.6, "sparse")):
+        store = tmp_path / f"p-{layout}.zarr"
+
+        def stop_after_three_blocks(done, total):
+            if done >= 3 * 4:
+                raise KeyboardInterrupt
+
+        with ThreadPoolExecutor(1) as executor, pytest.raises(KeyboardInterrupt):
+            distributed.distance_matrix_to_zarr(mesh, SOURCES, store, block_rows=4, max_distance=max_distance,
+                                                dtype="float64", client=executor, progress=stop_after_three_blocks)
+        before = distributed.store_status(store)
+        cut = [] if max_distance is None else ["--max-distance", max_distance]
+        finished = cli_run("matrix", mesh_file, "--sources", SOURCE_LIST, *cut, "--dtype", "float64", "--out", store,
+                           "--resume")
+        assert finished.returncode == 0, finished.stderr
+        assert computed_blocks(finished.stderr) == len(before.missing) and before.missing
+        status = distributed.store_status(store, verify=True)
+        assert status.complete and status.corrupt == ()
+        if max_distance is None:
+            assert np.array_equal(dense(store), REFERENCE)
+        else:
+            reference = exactgeo.distance_matrix(mesh, SOURCES, max_distance=max_distance)
+            assert (distributed.read_sparse(store) != reference).nnz == 0
+
+
+def test_a_store_made_for_another_matrix_is_refused_unchanged(cli, tmp_path):
+    store = tmp_path / "m.zarr"
+    with ThreadPoolExecutor(2) as executor:
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, store, block_rows=4, client=executor)
+    original = tree(store)
+    refusals = {
+        ("--sources", "0,9,18"): r"made for other sources \(the store's: 32 sources \[0, 9, 18, 27, 36, \.\.\.\]; "
+                                 r"these: 3 sources \[0, 9, 18\]\)",
+        ("--sources", SOURCE_LIST, "--dtype", "float64"): r"another dtype \(the store's: \"float32\"",
+        ("--sources", SOURCE_LIST, "--block-rows", 5): r"another block_rows \(the store's: 4; this run's: 5\)",
+        ("--sources", SOURCE_LIST, "--max-distance", 1): r"another max_distance \(the store's: null; this run's: 1\.0\)",
+        ("--sources", SOURCE_LIST, "--targets", "1,2"): r"other targets \(the store's: every vertex as targets",
+    }
+    for arguments, message in refusals.items():
+        refused = cli_run("matrix", TORUS, *arguments, "--out", store, "--shard", "0/2")
+        assert refused.returncode == 2 and re.search(message, refused.stderr), refused.stderr
+    other_mesh = cli_run("matrix", "@torus:24:14", "--sources", SOURCE_LIST, "--out", store, "--resume")
+    assert other_mesh.returncode == 2
+    assert re.search(r"another mesh \(the store's: 288 vertices, 576 faces, sha256 \w{12}\.\.\.; this one: 336 "
+                     r"vertices", other_mesh.stderr)
+    welded = cli_run("matrix", TORUS, "--weld", "--sources", SOURCE_LIST, "--out", store)
+    assert welded.returncode == 2 and "another mesh" in welded.stderr
+    assert tree(store) == original
+    # A dense array stored with codecs the command does not write (as stores made before they were
+    # uncompressed) is refused, not written into.
+    metadata_file = store / "distances" / "zarr.json"
+    metadata = json.loads(metadata_file.read_text())
+    metadata["codecs"].append({"name": "zstd", "configuration": {"level": 0, "checksum": False}})
+    metadata_file.write_text(json.dumps(metadata))
+    compressed = cli_run("matrix", TORUS, "--sources", SOURCE_LIST, "--out", store)
+    assert compressed.returncode == 2 and "stored with codecs [bytes, zstd]" in compressed.stderr
+    assert "uncompressed chunks only" in compressed.stderr
+
+
+def test_a_half_written_block_is_never_reported_done(cli, tmp_path):
+    store = tmp_path / "m.zarr"
+    run_cli("matrix", TORUS, "--sources", SOURCE_LIST, "--block-rows", 4, "--out", store)
+    # Block 1: its chunk written, its marker not. Block 2: its marker still at its temporary name. Block 5: a
+    # temporary chunk file left beside its place.
+    shutil.rmtree(store / "done" / "block_000001")
+    marker = store / "done" / "block_000002" / "zarr.json"
+    marker.rename(marker.with_name(".zarr.json.partial-Xy12ab"))
+    shutil.rmtree(store / "done" / "block_000005")
+    (store / "distances" / "c" / "5" / ".0.partial-Ab34cd").write_bytes(b"\0" * 100)
+    status = cli_run("matrix", "--status", store)
+    assert status.returncode == 4
+    assert re.search(r"done +5: 0, 3-4, 6-7\n", status.stdout) and re.search(r"missing +3: 1-2, 5\n", status.stdout)
+    assert re.search(r"shape +32 x 288\n", status.stdout) and re.search(r"dtype +float32\n", status.stdout)
+    assert distributed.store_status(store).missing == (1, 2, 5)
+    resumed = cli_run("matrix", TORUS, "--sources", SOURCE_LIST, "--out", store, "--resume")
+    assert computed_blocks(resumed.stderr) == 3
+    assert cli_run("matrix", "--status", store).returncode == 0
+    assert np.array_equal(dense(store), REFERENCE.astype(np.float32))
+
+
+def test_bad_input_is_refused_with_a_clear_message(cli, tmp_path):
+    base = ["matrix", TORUS, "--sources", "0,1", "--out"]
+    usage = {
+        ("--shard", "1-4"): "not a shard I/N",
+        ("--shard", "4/4"): "I must be below 4",
+        ("--shard", "0/0"): "N, the number of shards, is 0",
+        ("--block-rows", "0"): "must be at least 1",
+    }
+    for arguments, message in usage.items():
+        done = cli_run(*base, tmp_path / "m.zarr", *arguments)
+        assert done.returncode == 1 and message in done.stderr, done.stderr
+    for option in (["--shard", "0/2"], ["--resume"], ["--dtype", "float64"], ["--block-rows", "2"]):
+        done = cli_run(*base, tmp_path / "m.npy", *option)
+        assert done.returncode == 1 and "applies to .zarr stores only" in done.stderr, done.stderr
+    assert not (tmp_path / "m.zarr").exists() and not (tmp_path / "m.npy").exists()
+    # --status on anything but a store.
+    (tmp_path / "mine.zarr").mkdir()
+    (tmp_path / "mine.zarr" / "notes.txt").write_text("keep me")
+    for path, message in ((tmp_path / "none.zarr", "holds no exactgeo distance matrix store"),
+                          (tmp_path / "mine.zarr", "is not a Zarr store")):
+        done = cli_run("matrix", "--status", path)
+        assert done.returncode == 2 and message in done.stderr, done.stderr
+    # A folder that is not a store is never written into.
+    done = cli_run(*base, tmp_path / "mine.zarr")
+    assert done.returncode == 2 and "is not a Zarr store" in done.stderr and "nothing was changed" in done.stderr
+    assert [p.name for p in (tmp_path / "mine.zarr").iterdir()] == ["notes.txt"]
+    assert cli_run("matrix", "--status", tmp_path / "mine.zarr", "--sources", "0").returncode == 1
