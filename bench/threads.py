@@ -75,17 +75,19 @@ def measure_configurations(configurations: dict[str, tuple[str, list[str]]], mes
     return results
 
 
-def phase_split(exactgeo: Path, mesh_path: Path, work: Path) -> dict:
-    """The phases of one run on 1 and on 2 threads (--timers): what the threads share and what stays on one."""
-    split = {}
-    for threads in (1, 2):
-        stats_path = work / f"timers-{threads}.json"
-        run_once([str(exactgeo), "distance", str(mesh_path), "--source", "0", "--quiet", "--timers", "--threads",
-                  str(threads), "--stats", str(stats_path)], stats_path)
-        stats = json.loads(stats_path.read_text())
-        split[str(threads)] = {key: stats[key] for key in
-                               ("propagation_seconds", "window_propagation_seconds", "pruning_seconds", "queue_seconds")}
-    return split
+def phase_split(exactgeo: Path, mesh_path: Path, work: Path, runs: int) -> dict:
+    """The phases of a run on 1 and on 2 threads (--timers), each the median over `runs` runs taken in turn:
+    what the threads share and what stays on one."""
+    keys = ("propagation_seconds", "window_propagation_seconds", "pruning_seconds", "queue_seconds")
+    samples: dict[str, list[dict]] = {"1": [], "2": []}
+    for _ in range(runs):
+        for threads in samples:
+            stats_path = work / f"timers-{threads}.json"
+            run_once([str(exactgeo), "distance", str(mesh_path), "--source", "0", "--quiet", "--timers", "--threads",
+                      threads, "--stats", str(stats_path)], stats_path)
+            samples[threads].append(json.loads(stats_path.read_text()))
+    return {threads: {key: statistics.median(s[key] for s in runs_of) for key in keys}
+            for threads, runs_of in samples.items()}
 
 
 def heat_method(vertices: np.ndarray, faces: np.ndarray, exact: np.ndarray, runs: int) -> dict | None:
@@ -145,7 +147,7 @@ def main() -> None:
         record = {
             "name": mesh.name, "faces": mesh.face_count, "vertices": mesh.vertex_count,
             "results": results,
-            "phases": phase_split(exactgeo, mesh.obj_path, work),
+            "phases": phase_split(exactgeo, mesh.obj_path, work, args.runs),
             "parallel_vs_sequential_relative_error": float(
                 np.abs(parallel[finite] - sequential[finite]).max() / sequential[finite].max()),
             "same_reachability": bool((np.isfinite(parallel) == finite).all()),

@@ -129,8 +129,8 @@ def nefertiti_section(report: dict) -> list[str]:
              f"Every vertex as source and as target ({part['vertices']:,} vertices). Measured: the first "
              f"{measured['blocks_done']} blocks of the whole store's layout on {measured['workers']} workers. "
              "Extrapolated from them: time as their seconds per row times the rows, size as their bytes on disk per "
-             "block times the blocks plus what does not grow with the rows (chunks are compressed with zarr's "
-             "default codec, so du is below rows × columns × 4).", ""]
+             "block times the blocks plus what does not grow with the rows (the distances are stored uncompressed, so "
+             "du is rows × columns × 4 plus the mesh, the indices and the metadata).", ""]
     rows = store_rows(measured) + [["wall time of the measured blocks (measured)", duration(measured["wall_seconds"])]]
     lines += markdown_table(["", "nefertiti all-pairs"], rows + extrapolated_rows(part["extrapolated"]), "lr")
     return lines + [""]
@@ -167,7 +167,7 @@ def extrapolation_section(report: dict) -> list[str]:
                              for cores, c in e["cores"].items()], "rrr")
     lines += ["", "Assumptions: one single-threaded worker per core, each as fast as one core here; perfect scaling "
               "across nodes (blocks independent, each node holding the mesh once); the shared filesystem takes the "
-              "output at the bandwidth above (compressed chunks need somewhat less); the sources' cost as the fitted "
+              "output at the bandwidth above (the chunks are uncompressed); the sources' cost as the fitted "
               "per-source time, whatever their spread on the surface.", ""]
     return lines
 
