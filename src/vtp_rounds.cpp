@@ -57,7 +57,7 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
 
 // The band's vertices emit and their faces join the traversed area, in the band's order, as enclose_vertex
 // does for one vertex. Their emissions are collected first, in parallel, each with its vertex's distance as
-// the band found it; one lowered by an earlier vertex of the band emits again at the lower distance (Paper
+// the band found it; one lowered by an earlier vertex of the band emits again at the lower distance (paper
 // Section 5.2, third scenario), like any pseudo-source inside.
 void VtpEngine::enclose_band() {
   for (ThreadScratch& s : scratch_) s.emitted.clear();
