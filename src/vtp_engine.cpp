@@ -120,7 +120,6 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   source_label_.assign(n, kNone);
   face_visited_at_.assign(mesh_.face_count(), kNone);
   scheduled_.assign(mesh_.halfedges.size(), 0);
-  lists_.reset(mesh_.halfedges.size());
   vertex_queue_.reset(face_sorted_ ? 0 : n);
   face_queue_.reset(face_sorted_ ? mesh_.face_count() : 0);
   faces_to_join_.clear();
@@ -131,6 +130,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   emit_queue_.clear();
   iteration_ = 0;
   register_targets(targets);
+  const unsigned threads = face_sorted_ ? 1 : threads_or_cores(options.threads);
+  lists_.reset(mesh_.halfedges.size(), threads);
 
   for (std::uint32_t i = 0; i < sources_.size(); ++i) {
     const std::uint32_t v = sources_[i].point.vertex;
@@ -141,7 +142,6 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
       relax(v, 0.0, Arrival{v});
     }
   }
-  const unsigned threads = threads_or_cores(options.threads);
   if (face_sorted_) {
     run_face_sorted();
   } else if (threads > 1) {
@@ -355,11 +355,11 @@ bool VtpEngine::beyond_cutoff(const Window& w) const {
 void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
   if (beyond_cutoff(w)) return;
   if (face_visited_at_[face_of(g)] != kNone) {
-    lists_.append(g, {&w, 1});
+    lists_.append(g, {&w, 1}, 0);
     schedule(g);
   } else {
     if (face_sorted_) queue_face(g, {&w, 1});
-    lists_.prepend(g, {&w, 1});
+    lists_.prepend(g, {&w, 1}, 0);
   }
 }
 
@@ -473,7 +473,7 @@ void VtpEngine::emit_lowered_pseudo_source() {
   relax(mesh_.apex(h), reach.distance, at_apex);
   if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
   (prime ? stats_.prime_propagations : stats_.secondary_propagations) += propagations;
-  lists_.clear(h);
+  lists_.clear(h, 0);
   deliver(prev_halfedge(h), to_ac_, mesh_.tail(h), prime);
   deliver(next_halfedge(h), to_bc_, mesh_.head(h), prime);
 }
@@ -506,9 +506,9 @@ void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::u
     if (face_sorted_) queue_face(to.edge, windows);
     if (!lists_.empty(to.edge)) ++(prime ? stats_.prime_merges : stats_.secondary_merges);
   }
-  const std::span<Window> list = lists_.extend(to.edge, windows.size());
+  const std::span<Window> list = lists_.extend(to.edge, windows.size(), 0);
   std::copy(windows.begin(), windows.end(), list.end() - static_cast<std::ptrdiff_t>(windows.size()));
-  lists_.shrink_to(to.edge, join(list, windows.size(), to.joining, stats_));
+  lists_.shrink_to(to.edge, join(list, windows.size(), to.joining, stats_), 0);
   if (to.joining == Joining::inside) schedule(to.edge);
 }
 

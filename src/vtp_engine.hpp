@@ -183,6 +183,7 @@ class VtpEngine {
     bool had_windows;
     bool prime;         // the list crosses a face new in this iteration
     bool lowers_apex;   // its distance to the opposite corner is below that corner's at the round's start
+    std::array<bool, 2> joined;  // it joined the windows reaching that side's edge (and those of the other list)
     ApexReach reach;
     Arrival at_apex;       // how the list's best path reaches the opposite corner
     std::uint64_t propagations;
@@ -192,17 +193,11 @@ class VtpEngine {
   struct RoundDelivery {
     std::uint32_t crossing, side;  // side 0: to AC, 1: to BC
   };
-  struct RoundJoin {
-    std::uint32_t edge;
-    std::uint32_t size;  // the list's size before the round, then once joined
-    std::uint32_t deliveries = 0;
-    std::array<RoundDelivery, 2> delivery;  // in the round's order; an edge is reached from one face only
-  };
   struct alignas(64) ThreadScratch {  // a cache line of its own: each thread writes its own often
     std::vector<double> splits;
     std::array<std::vector<Window>, 2> crossed;
     Emission emitted;  // the band's emissions this thread collected
-    GeodesicStats stats;  // its pruning time
+    GeodesicStats stats;  // its pruning time and merges
   };
   double band_width_ = 0;  // engine lengths: the wavefront advances by about one edge per band
   std::unique_ptr<WorkerPool> pool_;
@@ -220,10 +215,9 @@ class VtpEngine {
   void enclose_band();
   void collect_in_band(std::size_t i, unsigned thread);
   std::vector<RoundCrossing> crossings_;
-  std::vector<RoundJoin> joins_;
-  std::vector<std::uint32_t> join_of_edge_;  // per halfedge: its entry in joins_ this round, or kNone
+  std::vector<std::uint32_t> round_slot_;  // per halfedge: its list's index in round_ this round, or kNone
   void cross_in_round(std::size_t i, unsigned thread);
-  void join_in_round(std::size_t j, unsigned thread);
+  void join_in_round(std::size_t i, unsigned thread);
 
   // Targets: points inside faces or on edges are listed per face; points at vertices read the vertex.
   std::vector<LocatedPoint> targets_;

@@ -4,10 +4,9 @@
 // every step sees the last one's result. Here the wavefront advances by a band instead: every queued vertex
 // within band_width_ of the nearest joins the traversed area, and the lists set moving then cross in rounds.
 // A round crosses all lists scheduled when it starts, each on whichever thread takes it, reading only its
-// own list and the distances as they stood at the round's start; then, in the round's order, what they found
-// at their opposite corners is applied and the spent lists are cleared; then each edge reached by crossed
-// windows joins them to its list (Rules 2 and 3), every edge on one thread, the windows in the round's
-// order. Nothing a thread computes depends on what another thread does or when, so the distances are the
+// own list and the distances as they stood at the round's start, and frees it; then, in the round's order,
+// what they found at their opposite corners is applied; then each edge reached by crossed windows joins them
+// to its list (Rules 2 and 3), every edge on one thread, the windows in the round's order. Nothing a thread computes depends on what another thread does or when, so the distances are the
 // same, bit for bit, for any number of threads: only the band (a property of the mesh) shapes the work.
 //
 // Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
@@ -29,7 +28,7 @@ constexpr double kBandEdges = 1.0;
 void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   if (!pool_ || pool_->threads() != threads) pool_ = std::make_unique<WorkerPool>(threads);
   scratch_.assign(threads, ThreadScratch{});
-  join_of_edge_.assign(mesh_.halfedges.size(), kNone);
+  round_slot_.assign(mesh_.halfedges.size(), kNone);
   double total_length = 0;
   for (const HalfedgeGeometry& g : mesh_.halfedges) total_length += g.length;
   band_width_ = kBandEdges * total_length / static_cast<double>(std::max<std::size_t>(1, mesh_.halfedges.size()));
@@ -52,7 +51,11 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
     enclose_band();
     drain_in_rounds();
   }
-  for (const ThreadScratch& s : scratch_) stats_.pruning_seconds += s.stats.pruning_seconds;
+  for (const ThreadScratch& s : scratch_) {
+    stats_.pruning_seconds += s.stats.pruning_seconds;
+    stats_.prime_merges += s.stats.prime_merges;
+    stats_.secondary_merges += s.stats.secondary_merges;
+  }
 }
 
 // The band's vertices emit and their faces join the traversed area, in the band's order, as enclose_vertex
@@ -93,12 +96,16 @@ void VtpEngine::collect_in_band(std::size_t i, unsigned thread) {
 void VtpEngine::drain_in_rounds() {
   while (true) {
     while (!emit_queue_.empty()) emit_lowered_pseudo_source();
+    lists_.note_peak();
     if (pending_.empty()) return;
     round_.assign(pending_.begin(), pending_.end());
     ++stats_.parallel_rounds;
     stats_.parallel_round_lists += round_.size();
     pending_.clear();
-    for (std::uint32_t h : round_) scheduled_[h] = 0;
+    for (std::uint32_t i = 0; i < round_.size(); ++i) {
+      scheduled_[round_[i]] = 0;
+      round_slot_[round_[i]] = i;
+    }
 
     // 1. Every list crosses its face, in parallel.
     for (ThreadScratch& s : scratch_)
@@ -109,62 +116,42 @@ void VtpEngine::drain_in_rounds() {
       pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { cross_in_round(i, thread); });
     }
 
-    // 2. In the round's order: the distances the lists found at their opposite corners and targets; then the
-    // spent lists are cleared. The crossed windows are grouped by the edge they reach, in order of arrival.
-    joins_.clear();
-    for (std::uint32_t i = 0; i < round_.size(); ++i) {
-      const RoundCrossing& c = crossings_[i];
-      const std::uint32_t h = c.halfedge;
+    // 2. In the round's order: the distances the lists found at their opposite corners and targets.
+    const bool has_targets = !face_target_offsets_.empty();
+    for (const RoundCrossing& c : crossings_) {
       if (!c.had_windows) continue;
+      const std::uint32_t h = c.halfedge;
       // Distances only fall: a list that did not lower its opposite corner at the round's start cannot now.
       if (c.lowers_apex) relax(mesh_.apex(h), c.reach.distance, c.at_apex);
-      if (!face_target_offsets_.empty()) evaluate_targets(h, lists_.view(h));
+      if (has_targets) {
+        evaluate_targets(h, lists_.view(h));
+        lists_.clear(h, 0);
+      }
       (c.prime ? stats_.prime_propagations : stats_.secondary_propagations) += c.propagations;
-      lists_.clear(h);
+    }
+
+    // 3. Each edge reached joins its arrivals, in parallel over the edges.
+    pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { join_in_round(i, thread); });
+    lists_.note_peak();
+
+    // 4. The joined lists inside the traversed area move on in the next round, in the order they were reached.
+    for (const RoundCrossing& c : crossings_) {
+      round_slot_[c.halfedge] = kNone;
       for (std::uint32_t side = 0; side < 2; ++side) {
         const std::uint32_t edge = c.handover[side].edge;
-        if (edge == kNone) continue;
-        if (join_of_edge_[edge] == kNone) {
-          join_of_edge_[edge] = static_cast<std::uint32_t>(joins_.size());
-          joins_.push_back({edge, 0, 0, {}});
-        }
-        RoundJoin& entry = joins_[join_of_edge_[edge]];
-        EXACTGEO_ASSERT(entry.deliveries < 2);
-        entry.delivery[entry.deliveries++] = {i, side};
+        if (c.joined[side] && !lists_.empty(edge) && face_visited_at_[face_of(edge)] != kNone) schedule(edge);
       }
-    }
-
-    // 3. Each edge reached joins its arrivals, in parallel over the edges; space for them is reserved first,
-    // so that no list moves while the threads work.
-    for (RoundJoin& entry : joins_) {
-      const std::size_t old_size = lists_.view(entry.edge).size();
-      std::size_t size = old_size;
-      for (std::uint32_t k = 0; k < entry.deliveries; ++k) {
-        const RoundCrossing& c = crossings_[entry.delivery[k].crossing];
-        const Handover& to = c.handover[entry.delivery[k].side];
-        if (to.joining != Joining::inside && size > 0) ++(c.prime ? stats_.prime_merges : stats_.secondary_merges);
-        size += to.count;
-      }
-      lists_.extend(entry.edge, size - old_size);
-      entry.size = static_cast<std::uint32_t>(old_size);
-    }
-    pool_->run(joins_.size(), [this](std::size_t j, unsigned thread) { join_in_round(j, thread); });
-
-    // 4. The joined lists take their final size; those inside the traversed area move on in the next round.
-    for (const RoundJoin& j : joins_) {
-      join_of_edge_[j.edge] = kNone;
-      lists_.shrink_to(j.edge, j.size);
-      if (j.size > 0 && face_visited_at_[face_of(j.edge)] != kNone) schedule(j.edge);
     }
   }
 }
 
-// Round phase 1 for the i-th list of the round: crosses it into this thread's buffers.
+// Round phase 1 for the i-th list of the round: crosses it into this thread's buffers, and frees it unless
+// its targets still need it.
 void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
   RoundCrossing& c = crossings_[i];
   const std::uint32_t h = round_[i];
-  c = RoundCrossing{h, thread, false, false, false, {}, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
+  c = RoundCrossing{h, thread, false, false, false, {false, false}, {}, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
   c.had_windows = true;
@@ -175,6 +162,7 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   c.propagations = cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], c.reach, c.at_apex);
   c.lowers_apex = c.reach.distance < distance_[mesh_.apex(h)];
   c.prime = face_visited_at_[face_of(h)] == iteration_;
+  if (face_target_offsets_.empty()) lists_.clear(h, thread);
   for (std::uint32_t side = 0; side < 2; ++side) {
     std::vector<Window>& crossed = scratch.crossed[side];
     const std::span<Window> windows(crossed.data() + c.begin[side], crossed.size() - c.begin[side]);
@@ -184,20 +172,40 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   }
 }
 
-// Round phase 3 for one edge: its list (extended by the space reserved) joins the round's arrivals in order.
-void VtpEngine::join_in_round(std::size_t j, unsigned thread) {
-  RoundJoin& entry = joins_[j];
-  const std::span<Window> list = lists_.windows(entry.edge);
-  std::size_t size = entry.size;
-  for (std::uint32_t k = 0; k < entry.deliveries; ++k) {
-    const RoundCrossing& c = crossings_[entry.delivery[k].crossing];
-    const std::uint32_t side = entry.delivery[k].side;
-    const std::size_t count = c.handover[side].count;
-    const Window* arriving = scratch_[c.thread].crossed[side].data() + c.begin[side];
-    std::copy(arriving, arriving + count, list.begin() + static_cast<std::ptrdiff_t>(size));
-    size = join(list.first(size + count), count, c.handover[side].joining, scratch_[thread].stats);
+// Round phase 3 for the i-th list of the round: the edges its windows reached join them. An edge is reached
+// only from the face behind it, by the lists on that face's two other halfedges; if both crossed in this
+// round, the earlier one joins the arrivals of both, in the round's order, so that each edge is changed by
+// one thread.
+void VtpEngine::join_in_round(std::size_t i, unsigned thread) {
+  RoundCrossing& c = crossings_[i];
+  GeodesicStats& stats = scratch_[thread].stats;
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    const std::uint32_t edge = c.handover[side].edge;
+    if (edge == kNone) continue;
+    const std::uint32_t partner = round_slot_[side == 0 ? next_halfedge(c.halfedge) : prev_halfedge(c.halfedge)];
+    const bool partner_delivers = partner != kNone && crossings_[partner].handover[1 - side].edge == edge;
+    if (partner_delivers && partner < i) continue;
+    std::array<RoundDelivery, 2> deliveries = {RoundDelivery{static_cast<std::uint32_t>(i), side}, RoundDelivery{partner, 1 - side}};
+    const std::uint32_t count = partner_delivers ? 2 : 1;
+
+    std::size_t size = lists_.view(edge).size(), added = 0;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const Handover& to = crossings_[deliveries[k].crossing].handover[deliveries[k].side];
+      if (to.joining != Joining::inside && size + added > 0)
+        ++(crossings_[deliveries[k].crossing].prime ? stats.prime_merges : stats.secondary_merges);
+      added += to.count;
+    }
+    const std::span<Window> list = lists_.extend(edge, added, thread);
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const RoundCrossing& from = crossings_[deliveries[k].crossing];
+      const Handover& to = from.handover[deliveries[k].side];
+      const Window* arriving = scratch_[from.thread].crossed[deliveries[k].side].data() + from.begin[deliveries[k].side];
+      std::copy(arriving, arriving + to.count, list.begin() + static_cast<std::ptrdiff_t>(size));
+      size = join(list.first(size + to.count), to.count, to.joining, stats);
+    }
+    lists_.shrink_to(edge, size, thread);
+    c.joined[side] = true;
   }
-  entry.size = static_cast<std::uint32_t>(size);
 }
 
 }  // namespace exactgeo::detail

@@ -1,10 +1,10 @@
-// Windows and window lists (paper Section 2): each list lives on a halfedge, its windows contiguous in one
-// shared arena.
+// Windows and window lists (paper Section 2): each list lives on a halfedge, its windows contiguous.
 #pragma once
 
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -23,107 +23,143 @@ struct Window {
   std::uint32_t pseudo_source;  // surface vertex the straight rays start from (a source or a bend vertex)
 };
 
-// All window lists. Each list is one block of the arena, of a power-of-two capacity; freed blocks are
-// reused by size class, so after the first vertices the arena stops growing and a list is read as one run of
-// memory rather than by chasing links.
+// All window lists. Each list is one block of a power-of-two capacity, carved from large chunks that never
+// move; freed blocks are reused by size class, so after the first vertices no more memory is asked for and a
+// list is read as one run of memory rather than by chasing links.
+//
+// Every change takes the number of the thread making it: each thread allocates from its own chunks and keeps
+// the blocks it frees, so the parallel rounds can move lists concurrently, each thread changing only lists
+// no other thread touches meanwhile. A block may be freed by another thread than the one that carved it; it
+// then serves that thread's next allocations.
 class WindowLists {
  public:
-  void reset(std::size_t halfedge_count) {
+  void reset(std::size_t halfedge_count, unsigned threads) {
     lists_.assign(halfedge_count, List{});
-    arena_.clear();
-    for (auto& blocks : free_blocks_) blocks.clear();
-    live_ = peak_live_ = 0;
+    allocators_.clear();
+    allocators_.resize(threads);
+    peak_sum_ = 0;
   }
   bool empty(std::uint32_t h) const { return lists_[h].size == 0; }
 
-  // The windows of h's list, in order; valid until the lists are next changed.
-  std::span<const Window> view(std::uint32_t h) const {
-    const List& list = lists_[h];
-    return {arena_.data() + list.offset, list.size};
-  }
-  // The same, writable in place (for joins that fill space reserved with extend).
-  std::span<Window> windows(std::uint32_t h) {
-    const List& list = lists_[h];
-    return {arena_.data() + list.offset, list.size};
-  }
+  // The windows of h's list, in order; valid until h's list is next changed.
+  std::span<const Window> view(std::uint32_t h) const { return {lists_[h].data, lists_[h].size}; }
+
   // Empties h's list, giving its block back for reuse.
-  void clear(std::uint32_t h) {
-    live_ -= lists_[h].size;
-    release(lists_[h]);
+  void clear(std::uint32_t h, unsigned thread) {
+    Allocator& a = allocators_[thread];
+    a.live -= lists_[h].size;
+    release(lists_[h], a);
   }
-  void append(std::uint32_t h, std::span<const Window> windows) {
-    List& list = lists_[h];
-    reserve(list, list.size + static_cast<std::uint32_t>(windows.size()));
-    std::copy(windows.begin(), windows.end(), arena_.begin() + list.offset + list.size);
-    grow_live(list, windows.size());
+  void append(std::uint32_t h, std::span<const Window> windows, unsigned thread) {
+    const std::span<Window> list = extend(h, windows.size(), thread);
+    std::copy(windows.begin(), windows.end(), list.end() - static_cast<std::ptrdiff_t>(windows.size()));
   }
-  void prepend(std::uint32_t h, std::span<const Window> windows) {
-    List& list = lists_[h];
-    reserve(list, list.size + static_cast<std::uint32_t>(windows.size()));
-    const auto begin = arena_.begin() + list.offset;
-    std::copy_backward(begin, begin + list.size, begin + list.size + windows.size());
-    std::copy(windows.begin(), windows.end(), begin);
-    grow_live(list, windows.size());
+  void prepend(std::uint32_t h, std::span<const Window> windows, unsigned thread) {
+    const std::span<Window> list = extend(h, windows.size(), thread);
+    std::copy_backward(list.begin(), list.end() - static_cast<std::ptrdiff_t>(windows.size()), list.end());
+    std::copy(windows.begin(), windows.end(), list.begin());
   }
 
   // Grows h's list by `added` windows at its end (left for the caller to fill) and returns the whole list,
   // for work in place; shrink_to gives back what that work removed.
-  std::span<Window> extend(std::uint32_t h, std::size_t added) {
+  std::span<Window> extend(std::uint32_t h, std::size_t added, unsigned thread) {
+    Allocator& a = allocators_[thread];
     List& list = lists_[h];
-    reserve(list, list.size + static_cast<std::uint32_t>(added));
-    grow_live(list, added);
-    return {arena_.data() + list.offset, list.size};
+    reserve(list, list.size + static_cast<std::uint32_t>(added), a);
+    list.size += static_cast<std::uint32_t>(added);
+    a.live += static_cast<std::int64_t>(added);
+    a.peak = std::max(a.peak, a.live);
+    return {list.data, list.size};
   }
-  void shrink_to(std::uint32_t h, std::size_t size) {
+  void shrink_to(std::uint32_t h, std::size_t size, unsigned thread) {
     List& list = lists_[h];
     EXACTGEO_ASSERT(size <= list.size);
-    live_ -= list.size - size;
+    allocators_[thread].live -= static_cast<std::int64_t>(list.size - size);
     list.size = static_cast<std::uint32_t>(size);
   }
 
-  std::uint64_t peak_live() const { return peak_live_; }
-  std::uint64_t arena_bytes() const { return arena_.capacity() * sizeof(Window); }
+  // With several threads, the count of live windows is known only where they all stand still: the caller
+  // says when (each count is added to the peak as taken).
+  void note_peak() {
+    std::int64_t live = 0;
+    for (const Allocator& a : allocators_) live += a.live;
+    peak_sum_ = std::max(peak_sum_, live);
+  }
+  std::uint64_t peak_live() const {
+    const std::int64_t one_thread = allocators_.size() == 1 ? allocators_[0].peak : 0;
+    return static_cast<std::uint64_t>(std::max(peak_sum_, one_thread));
+  }
+  std::uint64_t arena_bytes() const {
+    std::uint64_t bytes = 0;
+    for (const Allocator& a : allocators_) bytes += a.chunk_windows * sizeof(Window);
+    return bytes;
+  }
 
  private:
   struct List {
-    std::uint32_t offset = 0, size = 0, capacity = 0;
+    Window* data = nullptr;
+    std::uint32_t size = 0, capacity = 0;
   };
   static constexpr std::uint32_t kSmallestBlock = 4;
+  // Chunks start small (a small mesh needs little) and double up to a few megabytes.
+  static constexpr std::size_t kFirstChunk = 1024, kLargestChunk = std::size_t{1} << 16;
 
-  void reserve(List& list, std::uint32_t needed) {
+  struct alignas(64) Allocator {  // a cache line of its own: each thread changes its own often
+    std::vector<Window*> free_blocks[32];
+    std::vector<std::unique_ptr<Window[]>> chunks;
+    Window* rest = nullptr;  // the unused end of the newest chunk
+    std::size_t rest_size = 0;
+    std::size_t next_chunk = kFirstChunk;
+    std::uint64_t chunk_windows = 0;
+    std::int64_t live = 0, peak = 0;  // windows in lists: allocated less freed by this thread
+  };
+
+  void reserve(List& list, std::uint32_t needed, Allocator& a) {
     if (needed <= list.capacity) return;
     const std::uint32_t capacity = std::max(kSmallestBlock, std::bit_ceil(needed));
-    const std::uint32_t offset = allocate(capacity);
-    std::copy(arena_.begin() + list.offset, arena_.begin() + list.offset + list.size, arena_.begin() + offset);
+    Window* data = allocate(capacity, a);
+    std::copy(list.data, list.data + list.size, data);
     const std::uint32_t size = list.size;
-    release(list);
-    list = {offset, size, capacity};
+    release(list, a);
+    list = {data, size, capacity};
   }
-  std::uint32_t allocate(std::uint32_t capacity) {
-    auto& blocks = free_blocks_[std::countr_zero(capacity)];
+  static Window* allocate(std::uint32_t capacity, Allocator& a) {
+    auto& blocks = a.free_blocks[std::countr_zero(capacity)];
     if (!blocks.empty()) {
-      const std::uint32_t offset = blocks.back();
+      Window* block = blocks.back();
       blocks.pop_back();
-      return offset;
+      return block;
     }
-    const auto offset = static_cast<std::uint32_t>(arena_.size());
-    arena_.resize(arena_.size() + capacity);
-    return offset;
+    if (a.rest_size < capacity) add_chunk(capacity, a);
+    Window* block = a.rest;
+    a.rest += capacity;
+    a.rest_size -= capacity;
+    return block;
   }
-  void release(List& list) {
-    if (list.capacity > 0) free_blocks_[std::countr_zero(list.capacity)].push_back(list.offset);
+  static void add_chunk(std::size_t at_least, Allocator& a) {
+    // The old chunk's unused end becomes free blocks: every block size is a multiple of the smallest, so
+    // the rest splits into powers of two.
+    while (a.rest_size >= kSmallestBlock) {
+      const std::size_t piece = std::bit_floor(a.rest_size);
+      a.free_blocks[std::countr_zero(piece)].push_back(a.rest);
+      a.rest += piece;
+      a.rest_size -= piece;
+    }
+    const std::size_t size = std::max(at_least, a.next_chunk);
+    a.next_chunk = std::min(2 * a.next_chunk, kLargestChunk);
+    a.chunks.push_back(std::make_unique_for_overwrite<Window[]>(size));
+    a.rest = a.chunks.back().get();
+    a.rest_size = size;
+    a.chunk_windows += size;
+  }
+  static void release(List& list, Allocator& a) {
+    if (list.capacity > 0) a.free_blocks[std::countr_zero(list.capacity)].push_back(list.data);
     list = List{};
-  }
-  void grow_live(List& list, std::size_t added) {
-    list.size += static_cast<std::uint32_t>(added);
-    live_ += added;
-    peak_live_ = std::max(peak_live_, live_);
   }
 
   std::vector<List> lists_;
-  std::vector<Window> arena_;
-  std::vector<std::uint32_t> free_blocks_[32];
-  std::uint64_t live_ = 0, peak_live_ = 0;
+  std::vector<Allocator> allocators_;
+  std::int64_t peak_sum_ = 0;
 };
 
 // Order-preserving merge: inserts each of the windows list[old_size, end) after the last window before it

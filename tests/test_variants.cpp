@@ -13,7 +13,6 @@
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/shapes.hpp"
 #include "test_meshes.hpp"
-#include "windows.hpp"
 
 namespace {
 
@@ -105,25 +104,6 @@ TEST(VariantAblations, AllVariantsAgree) {
                                                1e-12, &error))
         << exactgeo_test::variant_label(options) << ": " << error;
   }
-}
-
-// Order-preserving SecondMerge: windows are inserted by the start of their interval.
-TEST(WindowLists, InsertInOrderKeepsTheListOrderedByStart) {
-  using exactgeo::detail::Window;
-  exactgeo::detail::WindowLists lists;
-  lists.reset(2);
-  const auto window = [](double b0, std::uint32_t tag) { return Window{b0, b0 + 0.5, 0, -1, 0, tag}; };
-  const std::vector<Window> existing = {window(0.0, 0), window(1.0, 1), window(2.0, 2)};
-  lists.append(1, existing);
-  const std::vector<Window> arriving = {window(2.5, 3), window(-1.0, 4), window(1.0, 5), window(1.5, 6)};
-  const std::span<Window> list = lists.extend(1, arriving.size());
-  std::copy(arriving.begin(), arriving.end(), list.end() - static_cast<std::ptrdiff_t>(arriving.size()));
-  exactgeo::detail::insert_in_order(list, existing.size());
-  std::vector<std::uint32_t> tags;
-  for (const Window& w : lists.view(1)) tags.push_back(w.pseudo_source);
-  // A window starting where another starts goes after it.
-  EXPECT_EQ(tags, (std::vector<std::uint32_t>{4, 0, 1, 5, 6, 2, 3}));
-  EXPECT_TRUE(lists.empty(0));
 }
 
 }  // namespace
