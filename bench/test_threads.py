@@ -14,9 +14,9 @@ def mesh_record(name, baseline, one, two):
         "results": {"baseline": result(baseline, 300, 100), "1-thread": result(one, 200, 100),
                     "2-threads": result(two, 210, 110)},
         "phases": {"1": {"propagation_seconds": 1.0, "window_propagation_seconds": 0.5, "pruning_seconds": 0.2,
-                         "queue_seconds": 0.05},
+                         "queue_seconds": 0.05, "parallel_seconds": 0.0},
                    "2": {"propagation_seconds": 0.6, "window_propagation_seconds": 0.25, "pruning_seconds": 0.2,
-                         "queue_seconds": 0.05}},
+                         "queue_seconds": 0.05, "parallel_seconds": 0.4}},
         "parallel_vs_sequential_relative_error": 1e-16, "same_reachability": True,
         "sequential_vs_baseline_relative_error": 0.0,
         "heat": {"factor_seconds": 2.0, "solve_seconds": 0.1, "max_relative_error": 0.02, "mean_relative_error": 0.005},
@@ -46,11 +46,11 @@ def test_the_heat_table_divides_the_exact_time_by_the_heat_solve(tmp_path):
 
 
 def test_the_prediction_divides_only_the_shared_phases():
-    # Shared work 0.7 s (crossing 0.5 + pruning 0.2 on one thread); on two threads 0.6 - 0.25 - 0.2 / 2 = 0.25 s
-    # stays on one thread.
+    # Of the 2-thread run's 0.6 s, 0.4 s are shared phases (0.8 s of work for the two threads) and 0.2 s stay
+    # on one thread.
     predicted = prediction(mesh_record("m", 2.0, 1.0, 0.5))
-    assert abs(predicted[8] - (0.25 + 0.7 / 8)) < 1e-12
-    assert abs(predicted[16] - (0.25 + 0.7 / 16)) < 1e-12
+    assert abs(predicted[8] - (0.2 + 0.8 / 8)) < 1e-12
+    assert abs(predicted[16] - (0.2 + 0.8 / 16)) < 1e-12
 
 
 def test_a_run_without_baseline_or_heat_leaves_those_cells_empty(tmp_path):

@@ -78,7 +78,7 @@ def measure_configurations(configurations: dict[str, tuple[str, list[str]]], mes
 def phase_split(exactgeo: Path, mesh_path: Path, work: Path, runs: int) -> dict:
     """The phases of a run on 1 and on 2 threads (--timers), each the median over `runs` runs taken in turn:
     what the threads share and what stays on one."""
-    keys = ("propagation_seconds", "window_propagation_seconds", "pruning_seconds", "queue_seconds")
+    keys = ("propagation_seconds", "window_propagation_seconds", "pruning_seconds", "queue_seconds", "parallel_seconds")
     samples: dict[str, list[dict]] = {"1": [], "2": []}
     for _ in range(runs):
         for threads in samples:

@@ -65,7 +65,10 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
 void VtpEngine::enclose_band() {
   for (ThreadScratch& s : scratch_) s.emitted.clear();
   band_emissions_.resize(band_.size());
-  pool_->run(band_.size(), [this](std::size_t i, unsigned thread) { collect_in_band(i, thread); });
+  {
+    const PhaseTimer timer(options_.collect_timings, stats_.parallel_seconds);
+    pool_->run(band_.size(), [this](std::size_t i, unsigned thread) { collect_in_band(i, thread); });
+  }
   for (std::size_t i = 0; i < band_.size(); ++i) {
     const BandEmission& e = band_emissions_[i];
     if (e.emits) {
@@ -112,6 +115,7 @@ void VtpEngine::drain_in_rounds() {
       for (std::vector<Window>& crossed : s.crossed) crossed.clear();
     crossings_.resize(round_.size());
     {
+      const PhaseTimer parallel(options_.collect_timings, stats_.parallel_seconds);
       const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
       pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { cross_in_round(i, thread); });
     }
@@ -131,7 +135,10 @@ void VtpEngine::drain_in_rounds() {
     }
 
     // 3. Each edge reached joins its arrivals, in parallel over the edges.
-    pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { join_in_round(i, thread); });
+    {
+      const PhaseTimer timer(options_.collect_timings, stats_.parallel_seconds);
+      pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { join_in_round(i, thread); });
+    }
     lists_.note_peak();
 
     // 4. The joined lists inside the traversed area move on in the next round, in the order they were reached.

@@ -107,6 +107,7 @@ struct GeodesicStats {
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
   double queue_seconds = 0.0;
+  double parallel_seconds = 0.0;
 };
 
 // What a field of GeodesicStats holds, for code that prints it.
@@ -145,6 +146,9 @@ constexpr void for_each_stats_field(Visit&& visit) {
         "crossing window lists over triangles (0 unless collect_timings)");
   visit("pruning_seconds", &S::pruning_seconds, phase, "pairwise pruning, Rules 2 and 3 (0 unless collect_timings)");
   visit("queue_seconds", &S::queue_seconds, phase, "the wavefront priority queue (0 unless collect_timings)");
+  visit("parallel_seconds", &S::parallel_seconds, phase,
+        "threads > 1: the phases all threads share (crossing, joining, emissions; 0 unless collect_timings); the rest "
+        "of propagation_seconds runs on one thread");
 }
 
 inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();
