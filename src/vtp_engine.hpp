@@ -177,18 +177,24 @@ class VtpEngine {
   // Parallel propagation (options_.threads > 1, vertex-sorted): each round crosses every scheduled list at
   // once, then joins the crossed windows to the lists they reach, each list by one thread. Which thread does
   // what changes nothing: a round's lists, their order and everything they read are fixed before it starts.
+  // What a list's crossing leaves for its joins (read by the threads).
   struct RoundCrossing {
-    std::uint32_t halfedge;
     std::uint32_t thread;  // whose buffers hold the crossed windows
-    bool had_windows;
-    bool prime;         // the list crosses a face new in this iteration
-    bool lowers_apex;   // its distance to the opposite corner is below that corner's at the round's start
-    std::array<bool, 2> joined;  // it joined the windows reaching that side's edge (and those of the other list)
-    ApexReach reach;
-    Arrival at_apex;       // how the list's best path reaches the opposite corner
-    std::uint64_t propagations;
+    bool prime;            // the list crosses a face new in this iteration
     std::array<std::uint32_t, 2> begin;  // to AC and to BC, in the thread's buffers
     std::array<Handover, 2> handover;
+  };
+  // What the sequential steps between the phases read, kept apart and small: they read it for every list of
+  // every round, after other threads wrote it.
+  enum RoundFlag : std::uint8_t {
+    kCrossed = 1,         // the list had windows
+    kLowersApex = 2,      // its distance to the opposite corner is below that corner's at the round's start
+    kScheduleToAC = 4,    // the edge its windows reached on that side now has a list inside the traversed
+    kScheduleToBC = 8,    //   area, joined by this crossing's task
+  };
+  struct ApexOffer {
+    double distance;
+    Arrival arrival;  // how the list's best path reaches the opposite corner
   };
   struct RoundDelivery {
     std::uint32_t crossing, side;  // side 0: to AC, 1: to BC
@@ -197,7 +203,7 @@ class VtpEngine {
     std::vector<double> splits;
     std::array<std::vector<Window>, 2> crossed;
     Emission emitted;  // the band's emissions this thread collected
-    GeodesicStats stats;  // its pruning time and merges
+    GeodesicStats stats;  // its propagations, merges and pruning time
   };
   double band_width_ = 0;  // engine lengths: the wavefront advances by about one edge per band
   std::unique_ptr<WorkerPool> pool_;
@@ -215,6 +221,8 @@ class VtpEngine {
   void enclose_band();
   void collect_in_band(std::size_t i, unsigned thread);
   std::vector<RoundCrossing> crossings_;
+  std::vector<std::uint8_t> round_flags_;   // per list of the round: RoundFlag bits
+  std::vector<ApexOffer> apex_offers_;      // per list of the round: set where kLowersApex
   std::vector<std::uint32_t> round_slot_;  // per halfedge: its list's index in round_ this round, or kNone
   void cross_in_round(std::size_t i, unsigned thread);
   void join_in_round(std::size_t i, unsigned thread);

@@ -53,6 +53,8 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   }
   for (const ThreadScratch& s : scratch_) {
     stats_.pruning_seconds += s.stats.pruning_seconds;
+    stats_.prime_propagations += s.stats.prime_propagations;
+    stats_.secondary_propagations += s.stats.secondary_propagations;
     stats_.prime_merges += s.stats.prime_merges;
     stats_.secondary_merges += s.stats.secondary_merges;
   }
@@ -114,24 +116,23 @@ void VtpEngine::drain_in_rounds() {
     for (ThreadScratch& s : scratch_)
       for (std::vector<Window>& crossed : s.crossed) crossed.clear();
     crossings_.resize(round_.size());
+    round_flags_.resize(round_.size());
+    apex_offers_.resize(round_.size());
     {
       const PhaseTimer parallel(options_.collect_timings, stats_.parallel_seconds);
       const PhaseTimer timer(options_.collect_timings, stats_.window_propagation_seconds);
       pool_->run(round_.size(), [this](std::size_t i, unsigned thread) { cross_in_round(i, thread); });
     }
 
-    // 2. In the round's order: the distances the lists found at their opposite corners and targets.
+    // 2. In the round's order: the distances the lists found at their opposite corners, and targets.
     const bool has_targets = !face_target_offsets_.empty();
-    for (const RoundCrossing& c : crossings_) {
-      if (!c.had_windows) continue;
-      const std::uint32_t h = c.halfedge;
+    for (std::uint32_t i = 0; i < round_.size(); ++i) {
       // Distances only fall: a list that did not lower its opposite corner at the round's start cannot now.
-      if (c.lowers_apex) relax(mesh_.apex(h), c.reach.distance, c.at_apex);
-      if (has_targets) {
-        evaluate_targets(h, lists_.view(h));
-        lists_.clear(h, 0);
+      if (round_flags_[i] & kLowersApex) relax(mesh_.apex(round_[i]), apex_offers_[i].distance, apex_offers_[i].arrival);
+      if (has_targets && (round_flags_[i] & kCrossed)) {
+        evaluate_targets(round_[i], lists_.view(round_[i]));
+        lists_.clear(round_[i], 0);
       }
-      (c.prime ? stats_.prime_propagations : stats_.secondary_propagations) += c.propagations;
     }
 
     // 3. Each edge reached joins its arrivals, in parallel over the edges.
@@ -142,12 +143,11 @@ void VtpEngine::drain_in_rounds() {
     lists_.note_peak();
 
     // 4. The joined lists inside the traversed area move on in the next round, in the order they were reached.
-    for (const RoundCrossing& c : crossings_) {
-      round_slot_[c.halfedge] = kNone;
-      for (std::uint32_t side = 0; side < 2; ++side) {
-        const std::uint32_t edge = c.handover[side].edge;
-        if (c.joined[side] && !lists_.empty(edge) && face_visited_at_[face_of(edge)] != kNone) schedule(edge);
-      }
+    for (std::uint32_t i = 0; i < round_.size(); ++i) {
+      const std::uint32_t h = round_[i];
+      round_slot_[h] = kNone;
+      if (round_flags_[i] & kScheduleToAC) schedule(mesh_.twin[prev_halfedge(h)]);
+      if (round_flags_[i] & kScheduleToBC) schedule(mesh_.twin[next_halfedge(h)]);
     }
   }
 }
@@ -158,17 +158,24 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
   RoundCrossing& c = crossings_[i];
   const std::uint32_t h = round_[i];
-  c = RoundCrossing{h, thread, false, false, false, {false, false}, {}, {}, 0, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
+  c = RoundCrossing{thread, false, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
+  round_flags_[i] = 0;
   const std::span<const Window> incoming = lists_.view(h);
   if (incoming.empty()) return;
-  c.had_windows = true;
   const std::array<std::uint32_t, 2> sides = {prev_halfedge(h), next_halfedge(h)};
   const std::array<std::uint32_t, 2> origins = {mesh_.tail(h), mesh_.head(h)};
   for (std::uint32_t side = 0; side < 2; ++side) c.begin[side] = static_cast<std::uint32_t>(scratch.crossed[side].size());
-  // The arrival at the opposite corner is kept so that the sequential pass need not read the windows again.
-  c.propagations = cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], c.reach, c.at_apex);
-  c.lowers_apex = c.reach.distance < distance_[mesh_.apex(h)];
+  ApexReach reach;
+  Arrival at_apex;
+  const std::uint64_t propagations =
+      cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], reach, at_apex);
   c.prime = face_visited_at_[face_of(h)] == iteration_;
+  (c.prime ? scratch.stats.prime_propagations : scratch.stats.secondary_propagations) += propagations;
+  round_flags_[i] = kCrossed;
+  if (reach.distance < distance_[mesh_.apex(h)]) {
+    round_flags_[i] |= kLowersApex;
+    apex_offers_[i] = {reach.distance, at_apex};
+  }
   if (face_target_offsets_.empty()) lists_.clear(h, thread);
   for (std::uint32_t side = 0; side < 2; ++side) {
     std::vector<Window>& crossed = scratch.crossed[side];
@@ -184,12 +191,13 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
 // round, the earlier one joins the arrivals of both, in the round's order, so that each edge is changed by
 // one thread.
 void VtpEngine::join_in_round(std::size_t i, unsigned thread) {
-  RoundCrossing& c = crossings_[i];
+  const RoundCrossing& c = crossings_[i];
+  const std::uint32_t h = round_[i];
   GeodesicStats& stats = scratch_[thread].stats;
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::uint32_t edge = c.handover[side].edge;
     if (edge == kNone) continue;
-    const std::uint32_t partner = round_slot_[side == 0 ? next_halfedge(c.halfedge) : prev_halfedge(c.halfedge)];
+    const std::uint32_t partner = round_slot_[side == 0 ? next_halfedge(h) : prev_halfedge(h)];
     const bool partner_delivers = partner != kNone && crossings_[partner].handover[1 - side].edge == edge;
     if (partner_delivers && partner < i) continue;
     std::array<RoundDelivery, 2> deliveries = {RoundDelivery{static_cast<std::uint32_t>(i), side}, RoundDelivery{partner, 1 - side}};
@@ -211,7 +219,7 @@ void VtpEngine::join_in_round(std::size_t i, unsigned thread) {
       size = join(list.first(size + to.count), to.count, to.joining, stats);
     }
     lists_.shrink_to(edge, size, thread);
-    c.joined[side] = true;
+    if (size > 0 && face_visited_at_[face_of(edge)] != kNone) round_flags_[i] |= side == 0 ? kScheduleToAC : kScheduleToBC;
   }
 }
 
