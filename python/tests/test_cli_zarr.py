@@ -170,6 +170,19 @@ def test_the_command_and_python_continue_each_others_stores(cli, tmp_path):
             assert (distributed.read_sparse(store) != reference).nnz == 0
 
 
+@pytest.mark.parametrize("dtype", ["float32", "float64"])
+def test_the_command_and_python_write_the_same_chunks_and_hashes(cli, tmp_path, dtype):
+    stores = {"command": tmp_path / "command.zarr", "python": tmp_path / "python.zarr"}
+    run_cli("matrix", TORUS, "--sources", SOURCE_LIST, "--dtype", dtype, "--block-rows", 5, "--out", stores["command"])
+    with ThreadPoolExecutor(2) as executor:  # 7 blocks, the last one of 2 rows: a chunk padded with NaN
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, stores["python"], dtype=dtype, block_rows=5, client=executor)
+    chunks = {name: tree(store / "distances" / "c") for name, store in stores.items()}
+    assert len(chunks["python"]) == 7 and chunks["python"] == chunks["command"]
+    hashes = {name: [zarr.open_group(str(store / "done" / f"block_{b:06d}"), mode="r").attrs["sha256"] for b in range(7)]
+              for name, store in stores.items()}
+    assert hashes["python"] == hashes["command"]
+
+
 def test_a_store_made_for_another_matrix_is_refused_unchanged(cli, tmp_path):
     store = tmp_path / "m.zarr"
     with ThreadPoolExecutor(2) as executor:
