@@ -21,6 +21,8 @@ try:
 except ImportError:
     pytest.skip("exactgeo.distributed needs dask[distributed] and zarr: pip install 'exactgeo[distributed]'",
                 allow_module_level=True)
+if int(zarr.__version__.split(".")[0]) < 3:
+    pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
 
 from exactgeo import distributed
 
