@@ -4,20 +4,26 @@ store, and what a 160K-vertex all-pairs would take on 64 and 512 cores. Writes b
 (Not named distributed.py: run from bench/, that would hide the dask package of the same name.)
 
 usage: python3 bench/distributed_matrix.py [--quick] [--runs 3] [--name distributed]
+       python3 bench/distributed_matrix.py --memory-only [--memory-blocks 4] [--runs 3]
        python3 bench/distributed_matrix.py --nefertiti-all-pairs STORE [--workers 2]
 
 Measured, in this process:
-- workloads: all-pairs on --all-pairs-mesh (every vertex a face uses, as source and as target) and --sources
-  seeded sources on nefertiti, each into a fresh float32 store with the library's default blocks, on a
+- workloads: all-pairs on --all-pairs-mesh (every vertex a face uses, as source and as target; by default
+  homer-sub1, homer 1-to-4 subdivided once: 24,002 vertices, the closed, well-shaped surface nearest the ~16K
+  vertices asked for among the shared meshes and their subdivisions) and --sources seeded sources on nefertiti, each into a fresh float32 store with the library's default blocks, on a
   LocalCluster of 1 and of 2 single-threaded worker processes (a fresh cluster for each run, its start not
   timed), and in-process exactgeo.distance_matrix on 1 and 2 threads; the four configurations taken in turn,
   --runs times, medians reported;
 - overhead per block: (wall time x workers - the sum of the blocks' own seconds, from their markers) / blocks,
   for every Dask run above and for blocks of one row on a 128-vertex torus (trivial work);
 - peak memory per worker: each worker process's peak RSS during the run (VmHWM, reset once the worker has
-  exactgeo, numpy, zarr and dask imported), less its RSS at that point (the baseline, reported too), against
-  one block's float32 bytes plus the mesh's bytes (its arrays and the RSS that building the Mesh adds to a fresh
-  process), with the engine's own peak window memory from the first source beside them;
+  exactgeo, numpy, zarr and dask imported and has written a tiny store of its own, so that what a first write
+  imports or sets up once is in it), less its RSS at that point (the baseline, reported too), against one
+  block's float32 bytes plus the mesh's bytes (its arrays and the RSS that building the Mesh adds to a fresh
+  process), with the engine's working memory beside them (the RSS one row of distance_matrix adds to a fresh
+  process holding the mesh: the solver's buffers and windows). --memory-only measures this alone, on the
+  first --memory-blocks blocks of each workload's layout (a worker's peak comes with its first blocks), and
+  writes results/distributed-memory.{json,md};
 - nefertiti all-pairs: the first --subset-blocks blocks of the all-pairs store's layout on 2 workers; time and
   size (du) of the whole store extrapolated from them. --nefertiti-all-pairs STORE runs the whole store (or
   continues it: resume=True), then adds what the store says (blocks done, their seconds, du) to the report;
@@ -29,6 +35,7 @@ Measured, in this process:
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import contextlib
 import datetime
 import importlib.metadata
@@ -39,6 +46,7 @@ import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -62,6 +70,8 @@ kTinyBlocks = 128
 kExtrapolatedVertices = 160_000
 kExtrapolatedCores = (64, 512)
 kDistributedPackages = ["numpy", "dask", "distributed", "zarr"]
+# The all-pairs workload's mesh, beside the subdivided meshes the other benchmarks share.
+kSubdividedMeshes = {**kSubdivided, "homer-sub1": ("homer", 1)}
 
 
 # ------------------------------------------------------------------------------------------ on the workers
@@ -77,13 +87,15 @@ def status_bytes(field: str) -> int:
 
 
 def worker_baseline_rss() -> int:
-    """A worker's RSS once it has what a block needs imported (the interpreter's and dask's share); its peak is
-    reset to it. The peak is the process's own (VmHWM), unlike ru_maxrss, which starts at the RSS of the
-    process that forked it."""
-    import zarr  # noqa: F401  (exactgeo.distributed imports it only when a block needs it)
+    """A worker's RSS once it has what a block needs imported (the interpreter's and dask's share) and has
+    written a tiny store itself (two blocks of one row on a 64-vertex torus), so that what the first write
+    imports or sets up once counts in the baseline, not in the growth; its peak is reset to it. The peak is the
+    process's own (VmHWM), unlike ru_maxrss, which starts at the RSS of the process that forked it."""
+    from exactgeo import distributed as module
 
-    import exactgeo.distributed  # noqa: F401
-
+    tiny = exactgeo.Mesh(*exactgeo.make_bumpy_torus(*kTinyTorus))
+    with tempfile.TemporaryDirectory() as folder, concurrent.futures.ThreadPoolExecutor(1) as executor:
+        module.distance_matrix_to_zarr(tiny, [0, 1], Path(folder) / "warm-up.zarr", block_rows=1, client=executor)
     with open("/proc/self/clear_refs", "w") as clear:
         clear.write("5")  # resets VmHWM to VmRSS
     return status_bytes("VmRSS")
@@ -157,16 +169,23 @@ from distributed_matrix import status_bytes
 vertices, faces = np.load(sys.argv[1]), np.load(sys.argv[2])
 before = status_bytes("VmRSS")
 mesh = exactgeo.Mesh(vertices, faces)
-print(vertices.nbytes + faces.nbytes + status_bytes("VmRSS") - before)
+mesh_bytes = vertices.nbytes + faces.nbytes + status_bytes("VmRSS") - before
+with open("/proc/self/clear_refs", "w") as clear:
+    clear.write("5")
+before = status_bytes("VmRSS")
+exactgeo.distance_matrix(mesh, [int(sys.argv[3])], threads=1)
+print(mesh_bytes, status_bytes("VmHWM") - before)
 """
 
 
-def mesh_bytes(mesh: BenchMesh) -> int:
-    """What a Mesh holds: its vertex and face arrays plus the RSS building it adds, in a fresh process (in this
-    one, memory freed earlier would hide part of it)."""
-    done = subprocess.run([sys.executable, "-c", kMeshBytesCode, str(mesh.vertices_path), str(mesh.triangles_path)],
-                          capture_output=True, text=True, check=True, cwd=kBenchDir)
-    return int(done.stdout)
+def mesh_and_engine_bytes(mesh: BenchMesh, source: int) -> tuple[int, int]:
+    """What a Mesh holds (its vertex and face arrays plus the RSS building it adds), then what one row of
+    distance_matrix from `source` adds to the peak (the engine's working memory: the solver's buffers and
+    windows, the row), in a fresh process: in this one, memory freed earlier would hide part of it."""
+    done = subprocess.run([sys.executable, "-c", kMeshBytesCode, str(mesh.vertices_path), str(mesh.triangles_path),
+                           str(source)], capture_output=True, text=True, check=True, cwd=kBenchDir)
+    mesh_size, engine = map(int, done.stdout.split())
+    return mesh_size, engine
 
 
 def load_mesh(mesh: BenchMesh) -> exactgeo.Mesh:
@@ -178,10 +197,32 @@ def used_vertices(faces: np.ndarray) -> np.ndarray:
     return np.unique(faces).astype(np.int64)
 
 
+def memory_figures(label: str, bench_mesh: BenchMesh, mesh: exactgeo.Mesh, sources: np.ndarray,
+                   samples: dict[str, list[dict]], status: distributed.StoreStatus) -> dict:
+    """The workers' growth over their baseline (the largest over the workers, median over the runs) against one
+    float32 block plus the mesh, with the engine's working memory beside them."""
+    size, engine = mesh_and_engine_bytes(bench_mesh, int(sources[0]))
+    block_float32 = status.block_rows * status.shape[1] * 4
+    memory = {}
+    for name in kConfigurations[:2]:
+        growth = [max(p - b for p, b in zip(s["worker_peak_rss_bytes"], s["worker_baseline_rss_bytes"]))
+                  for s in samples[name]]
+        memory[name] = {
+            "worker_baseline_rss_bytes": statistics.median(max(s["worker_baseline_rss_bytes"]) for s in samples[name]),
+            "worker_peak_rss_bytes": statistics.median(max(s["worker_peak_rss_bytes"]) for s in samples[name]),
+            "worker_growth_bytes": statistics.median(growth),
+            "growth_vs_block_and_mesh": statistics.median(growth) / (block_float32 + size),
+        }
+    return {"label": label, "mesh": bench_mesh.name, "vertices": mesh.vertex_count, "faces": mesh.face_count,
+            "sources": len(sources), "targets": status.shape[1], "block_rows": status.block_rows,
+            "blocks": math.ceil(len(sources) / status.block_rows), "block_float32_bytes": block_float32,
+            "mesh_bytes": size, "engine_bytes": engine, "memory": memory}
+
+
 def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, runs: int, work: Path) -> dict:
     """The four configurations in turn, `runs` times; medians, ratios, memory against one block plus the mesh,
     and whether the last store holds the in-process matrix rounded to float32."""
-    mesh, size = load_mesh(bench_mesh), mesh_bytes(bench_mesh)
+    mesh = load_mesh(bench_mesh)
     samples: dict[str, list[dict]] = {name: [] for name in kConfigurations}
     store = work / f"{label}.zarr"
     same = True
@@ -195,34 +236,42 @@ def measure_workload(label: str, bench_mesh: BenchMesh, sources: np.ndarray, run
                                             matrix.astype(np.float32)))
         print(f"{label} run {run + 1}: " + ", ".join(f"{name} {s[-1]['wall_seconds']:.2f} s"
                                                      for name, s in samples.items()), flush=True)
-    status = distributed.store_status(store)
     wall = {name: statistics.median(s["wall_seconds"] for s in runs_of) for name, runs_of in samples.items()}
-    block_float32 = status.block_rows * status.shape[1] * 4
-    memory = {}
-    for name in kConfigurations[:2]:
-        growth = [max(p - b for p, b in zip(s["worker_peak_rss_bytes"], s["worker_baseline_rss_bytes"]))
-                  for s in samples[name]]
-        memory[name] = {
-            "worker_baseline_rss_bytes": statistics.median(max(s["worker_baseline_rss_bytes"]) for s in samples[name]),
-            "worker_peak_rss_bytes": statistics.median(max(s["worker_peak_rss_bytes"]) for s in samples[name]),
-            "worker_growth_bytes": statistics.median(growth),
-            "growth_vs_block_and_mesh": statistics.median(growth) / (block_float32 + size),
-        }
     return {
-        "label": label, "mesh": bench_mesh.name, "vertices": mesh.vertex_count, "faces": mesh.face_count,
-        "sources": len(sources), "targets": status.shape[1], "block_rows": status.block_rows,
-        "blocks": status.blocks, "block_float32_bytes": block_float32,
-        "block_float64_bytes": block_float32 * 2, "mesh_bytes": size,
-        "window_bytes": exactgeo.GeodesicSolver(mesh).solve(int(sources[0])).stats.peak_window_bytes,
+        **memory_figures(label, bench_mesh, mesh, sources, samples, distributed.store_status(store)),
         "samples": samples, "median_wall_seconds": wall,
         "dask_speedup": wall["dask, 1 worker"] / wall["dask, 2 workers"],
         "in_process_speedup": wall["in-process, 1 thread"] / wall["in-process, 2 threads"],
         "overhead_per_block_seconds": {name: statistics.median(s["overhead_per_block_seconds"] for s in samples[name])
                                        for name in kConfigurations[:2]},
-        "memory": memory,
         "per_source_seconds": wall["in-process, 1 thread"] / len(sources),
         "store_equals_in_process": same,
     }
+
+
+def measure_memory(label: str, bench_mesh: BenchMesh, sources: np.ndarray, blocks: int, runs: int,
+                   work: Path) -> dict:
+    """The workers' memory alone: the first `blocks` blocks of the workload's layout (its default block_rows)
+    on 1 and 2 workers, `runs` times; no time is reported."""
+    mesh = load_mesh(bench_mesh)
+    block_rows = distributed._default_block_rows(len(sources), mesh.vertex_count, 4)
+    part = sources[:blocks * block_rows]
+    store = work / f"{label}-memory.zarr"
+    samples: dict[str, list[dict]] = {name: [] for name in kConfigurations[:2]}
+    for run in range(runs):
+        for name, workers in zip(kConfigurations[:2], kWorkerCounts):
+            with local_cluster(workers) as client:
+                baseline = client.run(worker_baseline_rss)
+                shutil.rmtree(store, ignore_errors=True)
+                distributed.distance_matrix_to_zarr(mesh, part, store, client=client, resume=False,
+                                                    block_rows=block_rows)
+                peak = client.run(worker_peak_rss)
+            samples[name].append({"worker_baseline_rss_bytes": [baseline[w] for w in sorted(peak)],
+                                  "worker_peak_rss_bytes": [peak[w] for w in sorted(peak)]})
+        print(f"{label} memory run {run + 1} done", flush=True)
+    figures = memory_figures(label, bench_mesh, mesh, sources, samples, distributed.store_status(store))
+    return {**figures, "blocks": math.ceil(len(sources) / block_rows), "blocks_measured": len(part) // block_rows,
+            "samples": samples}
 
 
 def tiny_blocks(client, work: Path, runs: int) -> dict:
@@ -316,15 +365,29 @@ def header(args: argparse.Namespace, argv: list[str] | None) -> dict:
             "load_average_at_start": os.getloadavg()}
 
 
+def workload_sources(args: argparse.Namespace, meshes: dict[str, BenchMesh]) -> list[tuple[str, BenchMesh, np.ndarray]]:
+    """The two workloads: all-pairs on --all-pairs-mesh, --sources seeded sources on nefertiti."""
+    all_pairs_mesh = meshes[args.all_pairs_mesh]
+    return [("all-pairs", all_pairs_mesh, used_vertices(np.load(all_pairs_mesh.triangles_path))),
+            ("many-sources", meshes["nefertiti"], np.array(choose_sources(meshes["nefertiti"], args.sources, seed=1)))]
+
+
+def memory_only(args: argparse.Namespace, argv: list[str] | None, meshes: dict[str, BenchMesh]) -> dict:
+    report = header(args, argv)
+    work = args.work_dir.resolve() / "runs" / "distributed"
+    work.mkdir(parents=True, exist_ok=True)
+    report["workloads"] = [measure_memory(label, mesh, sources, args.memory_blocks, args.runs, work)
+                           for label, mesh, sources in workload_sources(args, meshes)]
+    report["load_average_at_end"] = os.getloadavg()
+    return report
+
+
 def benchmark(args: argparse.Namespace, argv: list[str] | None, meshes: dict[str, BenchMesh]) -> dict:
     report = header(args, argv)
     work = args.work_dir.resolve() / "runs" / "distributed"
     work.mkdir(parents=True, exist_ok=True)
-    all_pairs_mesh = meshes[args.all_pairs_mesh]
-    all_pairs_sources = used_vertices(np.load(all_pairs_mesh.triangles_path))
-    many = np.array(choose_sources(meshes["nefertiti"], args.sources, seed=1))
-    report["workloads"] = [measure_workload("all-pairs", all_pairs_mesh, all_pairs_sources, args.runs, work),
-                           measure_workload("many-sources", meshes["nefertiti"], many, args.runs, work)]
+    report["workloads"] = [measure_workload(label, mesh, sources, args.runs, work)
+                           for label, mesh, sources in workload_sources(args, meshes)]
     report.update(nefertiti_subset(meshes["nefertiti"], args.subset_blocks, args.subset_block_rows, work, args.runs))
     points = [{"mesh": w["mesh"], "vertices": w["vertices"], "sources": w["sources"],
                "per_source_seconds": w["per_source_seconds"]} for w in report["workloads"]]
@@ -362,7 +425,11 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--quick", action="store_true",
                         help="woody all-pairs, 8 sources, 1 run, tiny nefertiti blocks: a check, not results")
     parser.add_argument("--runs", type=int, default=3, help="runs of each configuration (median reported)")
-    parser.add_argument("--all-pairs-mesh", default="homer")
+    parser.add_argument("--all-pairs-mesh", default="homer-sub1")
+    parser.add_argument("--memory-only", action="store_true",
+                        help="the workers' peak memory alone, on the first --memory-blocks blocks of each workload "
+                             "(no time measured); writes results/distributed-memory.{json,md}")
+    parser.add_argument("--memory-blocks", type=int, default=4, help="blocks of each workload with --memory-only")
     parser.add_argument("--sources", type=int, default=256, help="seeded sources of the nefertiti workload")
     parser.add_argument("--subset-blocks", type=int, default=2,
                         help="blocks of nefertiti's all-pairs layout measured, the rest extrapolated")
@@ -381,16 +448,24 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     if args.quick:
         args.all_pairs_mesh, args.sources, args.runs, args.subset_block_rows = "woody", 8, 1, 4
         args.scaling_meshes = []
-        args.name = args.name + "-quick" if args.name == "distributed" else args.name
+    if args.memory_only and args.name == "distributed":
+        args.name = "distributed-memory"
+    if args.quick and args.name in ("distributed", "distributed-memory"):
+        args.name += "-quick"
     return args
 
 
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
-    names = ["nefertiti"] if args.nefertiti_all_pairs else ["nefertiti", args.all_pairs_mesh, *args.scaling_meshes]
-    meshes = {m.name: m for m in select_meshes(args.mesh_dir.resolve(), args.work_dir.resolve(), names, kSubdivided)}
+    names = ["nefertiti"]
+    if not args.nefertiti_all_pairs:
+        names += [args.all_pairs_mesh] + ([] if args.memory_only else args.scaling_meshes)
+    meshes = {m.name: m for m in select_meshes(args.mesh_dir.resolve(), args.work_dir.resolve(), names,
+                                               kSubdividedMeshes)}
     if args.nefertiti_all_pairs:
         report = all_pairs_store(args, argv, meshes["nefertiti"])
+    elif args.memory_only:
+        report = memory_only(args, argv, meshes)
     else:
         report = benchmark(args, argv, meshes)
     args.results_dir.mkdir(parents=True, exist_ok=True)

@@ -40,6 +40,7 @@ def test_a_quick_run_measures_both_workloads_on_one_and_two_workers(quick_run):
         assert workload["store_equals_in_process"]
         assert workload["block_float32_bytes"] == workload["block_rows"] * workload["targets"] * 4
         assert workload["blocks"] == -(-workload["sources"] // workload["block_rows"])
+        assert workload["engine_bytes"] > 0 and workload["mesh_bytes"] > 0
         for memory in workload["memory"].values():
             assert memory["worker_baseline_rss_bytes"] > 0 and memory["worker_growth_bytes"] >= 0
             assert memory["worker_peak_rss_bytes"] >= memory["worker_baseline_rss_bytes"]
@@ -89,10 +90,9 @@ def test_a_partial_store_extrapolates_to_its_whole(tmp_path):
         distributed.distance_matrix_to_zarr(mesh, sources, store, block_rows=16, client=executor)
     whole = distributed_matrix.store_figures(store)
     assert (whole["blocks"], whole["blocks_done"], whole["rows_done"]) == (8, 8, 128)
-    for block in (1, 5, 6):  # as if never computed: no marker, no chunk (format v3: c/B/0, v2: B.0)
+    for block in (1, 5, 6):  # as if never computed: no marker, no chunk (c/B/0)
         shutil.rmtree(store / "done" / f"block_{block:06d}")
-        shutil.rmtree(store / "distances" / "c" / str(block), ignore_errors=True)
-        (store / "distances" / f"{block}.0").unlink(missing_ok=True)
+        shutil.rmtree(store / "distances" / "c" / str(block))
     part = distributed_matrix.store_figures(store)
     assert (part["blocks_done"], part["rows_done"]) == (5, 80)
     estimate = distributed_matrix.extrapolated(part, part["rows"], part["blocks"], 2)
@@ -119,3 +119,18 @@ def test_a_report_of_the_whole_store_alone_reads(quick_run, tmp_path):
     assert "## Nefertiti all-pairs, the whole store" in text and "in progress" in text
     assert "| core-seconds (extrapolated) | 4 s |" in text
     assert "## One worker against two" not in text
+
+
+def test_memory_only_measures_the_workers_on_a_few_blocks_and_times_nothing(tmp_path):
+    if not all((kMeshDir / f"{name}.obj").exists() for name in ("woody", "nefertiti")):
+        pytest.skip(f"{kMeshDir} lacks woody.obj or nefertiti.obj")
+    assert distributed_matrix.main(["--quick", "--memory-only", "--memory-blocks", "2", "--results-dir", str(tmp_path),
+                                    "--work-dir", str(tmp_path / "work")]) == 0
+    report = json.loads((tmp_path / "distributed-memory-quick.json").read_text())
+    for workload in report["workloads"]:
+        assert workload["blocks_measured"] == 2 and "median_wall_seconds" not in workload
+        for memory in workload["memory"].values():
+            assert memory["worker_peak_rss_bytes"] >= memory["worker_baseline_rss_bytes"] > 0
+    text = (tmp_path / "distributed-memory-quick.md").read_text()
+    assert "## Peak memory per worker" in text and "## One worker against two" not in text
+    assert "the first 2 blocks of the all-pairs layout" in text

@@ -16,7 +16,8 @@ from reports import anisotropy, distributed, many_sources, peers, python_level, 
 
 kResults = Path(__file__).resolve().parent / "results"
 kWriters = {"full": peers, "paper": variants, "anisotropy": anisotropy, "python-level": python_level,
-            "many-sources": many_sources, "threads": threads, "distributed": distributed}
+            "many-sources": many_sources, "threads": threads, "distributed": distributed,
+            "distributed-memory": distributed}
 
 
 def cells_spaced_alike(text: str) -> str:

@@ -1,5 +1,6 @@
 #include "zarr_store.hpp"
 
+#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -48,19 +50,56 @@ fs::path temporary_beside(const fs::path& final) {
   return final.parent_path() / ("." + final.filename().string() + suffix);
 }
 
+// The signals that end a run (SIGINT, SIGTERM, SIGHUP) held back for the life of this object: a signal handler
+// cannot remove a folder tree (that takes calls that are not async-signal-safe), so one arriving while a folder
+// is built waits until the building is over, and the builder removes the folder itself. The command has no
+// other thread while it builds (the engine's threads are joined before rows are handed over), so no other
+// thread takes the signal meanwhile.
+class HeldInterrupts {
+ public:
+  HeldInterrupts() {
+    ::sigemptyset(&held_);
+    for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::sigaddset(&held_, signal_number);
+    ::pthread_sigmask(SIG_BLOCK, &held_, &previous_);
+  }
+  ~HeldInterrupts() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+  HeldInterrupts(const HeldInterrupts&) = delete;
+  HeldInterrupts& operator=(const HeldInterrupts&) = delete;
+
+  bool arrived() const {
+    sigset_t pending;
+    ::sigpending(&pending);
+    for (int signal_number : {SIGINT, SIGTERM, SIGHUP})
+      if (::sigismember(&pending, signal_number)) return true;
+    return false;
+  }
+  // Lets the held signals in: the one that arrived is taken now, and its handler
+  // (remove_unfinished_outputs_on_interrupt) ends the run the way the signal would have.
+  void deliver() { ::pthread_sigmask(SIG_UNBLOCK, &held_, nullptr); }
+
+ private:
+  sigset_t held_{}, previous_{};
+};
+
 // Builds a folder at a hidden name beside `final`, then renames it into place, so that it appears whole.
 // False if a folder was there first (the one built is then removed): rename(2) replaces an empty folder and
-// fails on a full one. Nothing is left behind if building fails.
+// fails on a full one. Nothing is left behind if building fails or an interrupt arrives meanwhile.
 template <class Build>
 bool build_folder_into_place(const fs::path& final, const Build& build) {
   const fs::path building = temporary_beside(final);
   std::error_code ignored;
+  HeldInterrupts interrupts;
   try {
     fs::create_directories(building);
     build(building);
   } catch (...) {
     fs::remove_all(building, ignored);
     throw;
+  }
+  if (interrupts.arrived()) {
+    fs::remove_all(building, ignored);
+    interrupts.deliver();
+    throw io_error("interrupted while writing '" + final.string() + "'");  // if the signal's handler returned
   }
   if (std::rename(building.c_str(), final.c_str()) == 0) return true;
   const int reason = errno;

@@ -72,24 +72,15 @@ def distance_matrix(
     function called with (rows done, rows). Ctrl-C stops the work within milliseconds.
     """
     mesh = checked_mesh(mesh)
-    vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
-    columns = (
-        np.empty(0, dtype=np.uint32)
-        if targets is None
-        else _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
-    )
-    exact = exact_targets(targets_beyond, targets is not None, max_distance)
+    vertices, columns, has_targets = _rows_and_columns(mesh, sources, targets)
+    exact = exact_targets(targets_beyond, has_targets, max_distance)
     config = geodesic_options(None if exact else max_distance, options)
-    workers = 0 if threads is None else _inputs.count(threads, "threads", minimum=1, maximum=2**32 - 1)
-    has_targets = targets is not None
+    workers = _workers(threads)
     width = len(columns) if has_targets else mesh.vertex_count
     if max_distance is None:
-        return run_with_progress(
-            progress,
-            "rows",
-            len(vertices),
-            lambda r: _core.distance_matrix(mesh._core, vertices, columns, has_targets, config, workers, r),
-        )
+        matrix = np.empty((len(vertices), width))
+        _fill(matrix, mesh, vertices, columns, has_targets, config, workers, progress)
+        return matrix
     try:
         import scipy.sparse
     except ImportError:
@@ -101,6 +92,42 @@ def distance_matrix(
         lambda r: _core.sparse_distance_matrix(mesh._core, vertices, columns, has_targets, config, workers, r),
     )
     return scipy.sparse.csr_array((values, indices, row_offsets), shape=(len(vertices), width))
+
+
+def _rows_and_columns(mesh: Mesh, sources: VertexIndices, targets: VertexIndices | None) -> tuple:
+    """The source vertices, the target vertices (empty without targets) and whether targets were given."""
+    vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
+    columns = (
+        np.empty(0, dtype=np.uint32)
+        if targets is None
+        else _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
+    )
+    return vertices, columns, targets is not None
+
+
+def _workers(threads: int | None) -> int:
+    return 0 if threads is None else _inputs.count(threads, "threads", minimum=1, maximum=2**32 - 1)
+
+
+def _fill(out: np.ndarray, mesh: Mesh, vertices: np.ndarray, columns: np.ndarray, has_targets: bool,
+          config: _core.GeodesicOptions, workers: int, progress: Progress) -> None:
+    run_with_progress(
+        progress,
+        "rows",
+        len(vertices),
+        lambda r: _core.fill_distance_matrix(mesh._core, vertices, columns, has_targets, config, workers, out, r),
+    )
+
+
+def fill_distance_matrix(out: np.ndarray, mesh: Mesh, sources: VertexIndices, *, targets: VertexIndices | None = None,
+                         threads: int | None = None) -> None:
+    """distance_matrix(mesh, sources, targets=targets, threads=threads) written into `out`, a C-ordered float64 or
+    float32 array of shape (sources, targets) (float32: each distance rounded to nearest, as astype rounds), a
+    few rows at a time: no other copy of the matrix is made. exactgeo.distributed's blocks are computed this way,
+    straight into the chunk they are written from."""
+    mesh = checked_mesh(mesh)
+    vertices, columns, has_targets = _rows_and_columns(mesh, sources, targets)
+    _fill(out, mesh, vertices, columns, has_targets, geodesic_options(None, {}), _workers(threads), None)
 
 
 @dataclasses.dataclass(frozen=True)

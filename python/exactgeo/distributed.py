@@ -7,8 +7,8 @@ concurrent.futures executor), each block written by its worker straight into a Z
     zarr.open_array("d.zarr/distances")[:]                                # or dask.array.from_zarr
 
 An optional extra (pip install exactgeo[distributed]: dask[distributed] and zarr); `import exactgeo` does not
-import it, and this module imports dask and zarr only when a function needs them. zarr-python 3 (format v3)
-and 2.16+ (format v2) both work. See docs/distributed.md.
+import it, and this module imports dask and zarr only when a function needs them. It needs zarr-python 3 (Zarr
+format v3). See docs/distributed.md.
 
 The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for
 a cluster):
@@ -17,27 +17,29 @@ a cluster):
                                     targets, dtype, max_distance, block_rows, exactgeo's version)
     STORE/distances                 (sources, targets) array, chunks of (block_rows, all columns): block b is
                                     chunk row b, rows [b * block_rows, (b + 1) * block_rows); NaN where no
-                                    block was written yet (dense matrices only); uncompressed
+                                    block was written yet (dense matrices only); uncompressed, so that a
+                                    block's chunk (distances/c/B/0) is its rows' bytes, written as they are
     STORE/source, STORE/target      int64 vertex index of each row, of each column
     STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
     STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
                                     row pointers from 0; written in a hidden folder beside it, then renamed
     STORE/done/block_000012         a Zarr group with no arrays, made once block 12's data is complete: its
-                                    metadata file (zarr.json, or .zgroup for format v2) is renamed into place
-                                    last and is the marker; its attributes hold the block's rows and the
-                                    sha256 of the bytes written
+                                    metadata file (zarr.json) is renamed into place last and is the marker;
+                                    its attributes hold the block's rows and the sha256 of the bytes written
 
 A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
 at most blocks without markers, which the next run with resume=True computes again.
 
 The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
-v3), so either can continue a store the other began.
+v3), so either can continue a store the other began. The store is built in a hidden folder beside its place and
+renamed into it; an error or an interrupt (Ctrl-C) while building it removes that folder.
 """
 
 from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
+import errno
 import hashlib
 import json
 import math
@@ -46,7 +48,7 @@ import shutil
 import time
 import uuid
 from pathlib import Path
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
@@ -59,6 +61,7 @@ DTYPES = ("float32", "float64")
 StorePath = Union[str, "os.PathLike[str]"]
 
 _MISSING_EXTRA = "exactgeo.distributed needs its extra: pip install 'exactgeo[distributed]' (dask[distributed], zarr)"
+ZARR_FORMAT = 3
 
 
 # What a run returns and what a store holds.
@@ -107,11 +110,10 @@ def _zarr() -> Any:
         import zarr
     except ImportError:
         raise ImportError(_MISSING_EXTRA) from None
+    if int(zarr.__version__.split(".")[0]) < 3:
+        raise ImportError(f"exactgeo.distributed needs zarr-python 3 or newer (Python 3.11+), not {zarr.__version__}: "
+                          "pip install 'exactgeo[distributed]'")
     return zarr
-
-
-def _zarr_major() -> int:
-    return int(_zarr().__version__.split(".")[0])
 
 
 def _open_group(path: Path, mode: str) -> Any:
@@ -124,18 +126,12 @@ def _open_array(path: Path, mode: str = "r") -> Any:
 
 def _new_array(group: Any, name: str, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any,
                fill_value: Any, dimensions: Sequence[str], compressed: bool = True) -> Any:
-    """An array in `group` (replacing one of that name); dimension names as xarray reads them in both formats.
+    """An array in `group` (replacing one of that name), with dimension names as xarray reads them.
     `compressed=False` stores the chunks as raw little-endian bytes."""
     chunks = tuple(max(1, c) for c in chunks)
-    if _zarr_major() >= 3:
-        codecs = {} if compressed else {"compressors": None}
-        return group.create_array(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
-                                  dimension_names=list(dimensions), overwrite=True, **codecs)
-    codecs = {} if compressed else {"compressor": None}
-    array = group.create_dataset(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value, overwrite=True,
-                                 **codecs)
-    array.attrs["_ARRAY_DIMENSIONS"] = list(dimensions)
-    return array
+    codecs = {} if compressed else {"compressors": None}
+    return group.create_array(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
+                              dimension_names=list(dimensions), overwrite=True, **codecs)
 
 
 def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[str]) -> None:
@@ -163,14 +159,42 @@ def _block_name(block: int) -> str:
     return f"block_{block:06d}"
 
 
-def _write_atomically(final: Path, text: str) -> None:
-    """The file appears whole or not at all: written beside its final name, synced, then renamed."""
-    temporary = final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
-    with open(temporary, "w") as file:
-        file.write(text)
-        file.flush()
-        os.fsync(file.fileno())
-    os.replace(temporary, final)
+def _beside(final: Path) -> Path:
+    """A hidden name beside `final` for building it: the process and a random number keep attempts apart."""
+    return final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
+
+
+def _write_atomically(final: Path, data: Union[str, bytes, np.ndarray]) -> None:
+    """The file appears whole or not at all, its bytes on disk before it does: written beside its final name,
+    synced, then renamed. An array is written from its own memory, without a copy."""
+    temporary = _beside(final)
+    try:
+        with open(temporary, "wb") as file:
+            file.write(data.encode() if isinstance(data, str) else data)
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(temporary, final)
+    finally:
+        if temporary.exists():  # stopped before the rename: an error or Ctrl-C
+            temporary.unlink()
+
+
+def _build_folder_into_place(final: Path, build: Callable[[Path], None]) -> bool:
+    """Builds a folder at a hidden name beside `final`, then renames it into place, so that it appears whole.
+    False if a folder was there first (rename replaces an empty folder and fails on a full one). Whatever stops
+    the building, an error or Ctrl-C (KeyboardInterrupt), nothing built is left behind."""
+    building = _beside(final)
+    try:
+        build(building)
+        try:
+            os.rename(building, final)
+        except OSError as error:
+            if error.errno not in (errno.EEXIST, errno.ENOTEMPTY):
+                raise
+            return False
+        return True
+    finally:
+        shutil.rmtree(building, ignore_errors=True)  # nothing there once renamed
 
 
 def _write_marker(path: Path, block: int, record: dict) -> None:
@@ -178,12 +202,8 @@ def _write_marker(path: Path, block: int, record: dict) -> None:
     after the block's data is written, is the marker."""
     folder = path / "done" / _block_name(block)
     folder.mkdir(parents=True, exist_ok=True)
-    if _zarr_major() >= 3:
-        _write_atomically(folder / "zarr.json", json.dumps(
-            {"zarr_format": 3, "node_type": "group", "attributes": record}))
-    else:
-        _write_atomically(folder / ".zattrs", json.dumps(record))
-        _write_atomically(folder / ".zgroup", json.dumps({"zarr_format": 2}))
+    _write_atomically(folder / "zarr.json", json.dumps(
+        {"zarr_format": ZARR_FORMAT, "node_type": "group", "attributes": record}))
 
 
 def _done_blocks(path: Path, blocks: int) -> list[int]:
@@ -194,7 +214,7 @@ def _done_blocks(path: Path, blocks: int) -> list[int]:
     for entry in folder.iterdir():
         number = entry.name[len("block_"):]
         if entry.name.startswith("block_") and number.isdigit() and int(number) < blocks \
-                and ((entry / "zarr.json").is_file() or (entry / ".zgroup").is_file()):
+                and (entry / "zarr.json").is_file():
             found.append(int(number))
     return sorted(found)
 
@@ -210,6 +230,9 @@ def _stored_settings(path: Path) -> Optional[dict]:
         return None
     if not ((path / "zarr.json").is_file() or (path / ".zgroup").is_file()):
         raise ValueError(f"{path} exists and is not a Zarr store: choose another store (nothing was changed)")
+    if not (path / "zarr.json").is_file():
+        raise ValueError(f"{path} is a Zarr format 2 store: exactgeo.distributed reads and writes format 3 only "
+                         "(zarr-python 3); choose another store (nothing was changed)")
     settings = dict(_open_group(path, "r").attrs).get("exactgeo")
     if not isinstance(settings, dict) or settings.get("format") != FORMAT:
         raise ValueError(f"{path} is a Zarr store but not an exactgeo distance matrix: choose another store "
@@ -259,8 +282,22 @@ def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, t
     _array_of(meshes, "vertices", np.array(mesh.vertices, dtype=np.float64), ("vertex", "xyz"))
     _array_of(meshes, "faces", np.array(mesh.faces, dtype=np.uint32), ("face", "corner"))
     root.create_group("done")
-    # The attribute goes last: a store interrupted while being made has none and is not taken as one.
     root.attrs["exactgeo"] = settings
+
+
+def _check_chunk_layout(path: Path) -> None:
+    """Blocks write their chunk files themselves (_write_chunk): `distances` must store them as raw little-endian
+    bytes under the default keys, as this module and the command make it. ValueError naming the codecs otherwise."""
+    with open(path / "distances" / "zarr.json") as file:
+        metadata = json.load(file)
+    codecs = metadata.get("codecs")
+    keys = metadata.get("chunk_key_encoding")
+    if codecs != [{"name": "bytes", "configuration": {"endian": "little"}}] or \
+            keys != {"name": "default", "configuration": {"separator": "/"}}:
+        names = ", ".join(str(codec.get("name")) for codec in codecs or [] if isinstance(codec, dict))
+        raise ValueError(f"{path / 'distances'} stores its chunks with codecs [{names}] and chunk keys {keys}; blocks "
+                         "are written uncompressed (codecs [bytes], little-endian) under the default keys: choose "
+                         "another store, or resume=False to replace this one")
 
 
 def _default_block_rows(rows: int, width: int, itemsize: int) -> int:
@@ -317,45 +354,58 @@ def _context_of(context: Union[_Context, _StoreReference]) -> _Context:
 def _compute_block(context: Union[_Context, _StoreReference], store: str, block: int, rows: tuple[int, int],
                    sources: np.ndarray, options: dict) -> dict:
     """Computes rows [rows[0], rows[1]) (block `block`), writes them into the store, then the block's marker."""
-    from ._many_sources import distance_matrix
+    from ._many_sources import distance_matrix, fill_distance_matrix
 
     started = time.perf_counter()
     path = Path(store)
     context = _context_of(context)
     dtype = np.dtype(options["dtype"])
     max_distance = options["max_distance"]
-    matrix = distance_matrix(context.mesh, sources, targets=context.targets, max_distance=max_distance,
-                             threads=options["threads"])
     digest = hashlib.sha256()
     record: dict[str, Any] = {"block": block, "rows": list(rows)}
     if max_distance is None:
-        values = np.ascontiguousarray(matrix.astype(dtype, copy=False))
-        _open_array(path / "distances", "r+")[rows[0]:rows[1], :] = values
-        digest.update(values.tobytes())
+        # The block's chunk is the only copy of its rows: computed into it a few rows at a time (float32 rounded
+        # from each float64 distance as it comes), then written from its own memory. The last block's chunk is
+        # padded with the fill value, as Zarr stores a chunk at the array's edge.
+        width = context.mesh.vertex_count if context.targets is None else len(context.targets)
+        chunk = np.empty((options["block_rows"], width), dtype=dtype)
+        values = chunk[:rows[1] - rows[0]]
+        chunk[len(values):] = np.nan
+        fill_distance_matrix(values, context.mesh, sources, targets=context.targets, threads=options["threads"])
+        little_endian = chunk.astype(dtype.newbyteorder("<"), copy=False)  # no copy on little-endian hosts
+        _write_chunk(path, block, little_endian)
+        digest.update(little_endian[:len(values)])
     else:
+        matrix = distance_matrix(context.mesh, sources, targets=context.targets, max_distance=max_distance,
+                                 threads=options["threads"])
         pieces = {"data": np.ascontiguousarray(matrix.data.astype(dtype, copy=False)),
                   "indices": np.ascontiguousarray(matrix.indices.astype(np.uint32, copy=False)),
                   "indptr": np.ascontiguousarray(matrix.indptr.astype(np.int64, copy=False))}
-        # Written whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete.
-        final = path / "csr" / _block_name(block)
-        temporary = final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
-        group = _open_group(temporary, "w")
-        for name, values in pieces.items():
-            _array_of(group, name, values, (name,))
-            digest.update(values.tobytes())
-        try:
-            os.rename(temporary, final)
-        except OSError:
-            if not final.is_dir():
-                raise
-            # Another attempt at this block (a duplicate, or an earlier run stopped before the marker) put
-            # the same rows there, complete: keep those.
-            shutil.rmtree(temporary, ignore_errors=True)
+        for values in pieces.values():
+            digest.update(values)
+
+        def build(folder: Path) -> None:
+            group = _open_group(folder, "w")
+            for name, values in pieces.items():
+                _array_of(group, name, values, (name,))
+
+        # Built whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete. If
+        # another attempt at this block (a duplicate, or an earlier run stopped before the marker) put the same
+        # rows there first, those are kept.
+        _build_folder_into_place(path / "csr" / _block_name(block), build)
         record["nnz"] = int(len(pieces["data"]))
     record["sha256"] = digest.hexdigest()
     record["seconds"] = time.perf_counter() - started
     _write_marker(path, block, record)
     return record
+
+
+def _write_chunk(path: Path, block: int, chunk: np.ndarray) -> None:
+    """Block `block`'s chunk of `distances` (chunk (block, 0), key c/block/0), written beside its place and
+    renamed into it."""
+    folder = path / "distances" / "c" / str(block)
+    folder.mkdir(parents=True, exist_ok=True)
+    _write_atomically(folder / "0", chunk)
 
 
 # The driver.
@@ -442,17 +492,23 @@ def distance_matrix_to_zarr(
         "layout": "dense" if cutoff is None else "sparse",
         "block_rows": rows_per_block,
         "blocks": math.ceil(len(source_array) / rows_per_block),
-        "zarr_format": 3 if _zarr_major() >= 3 else 2,
+        "zarr_format": ZARR_FORMAT,
     }
-    if stored is not None and resume:
+    if stored is not None and not resume:
+        shutil.rmtree(path)
+        stored = None
+    if stored is None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if not _build_folder_into_place(path, lambda building: _create_store(building, settings, mesh, source_array,
+                                                                             target_array)):
+            stored = _stored_settings(path)  # another driver made it first: joined below if it is for this matrix
+    if stored is not None:
         differences = _differences(stored, settings, block_rows is not None)
         if differences:
             raise ValueError(f"the store {path} was made for " + "; ".join(differences) +
                              ". Use another store, or resume=False to replace this one.")
-    else:
-        if stored is not None:
-            shutil.rmtree(path)
-        _create_store(path, settings, mesh, source_array, target_array)
+        if cutoff is None:
+            _check_chunk_layout(path)
     blocks = settings["blocks"]
     for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
         shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
@@ -463,7 +519,7 @@ def distance_matrix_to_zarr(
             shutil.rmtree(path / "csr" / _block_name(block), ignore_errors=True)  # pieces are kept, not rewritten
             done.remove(block)
     todo = sorted(set(range(blocks)) - set(done))
-    options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads}
+    options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads, "block_rows": rows_per_block}
     tasks = {b: (str(path), b, (b * rows_per_block, min((b + 1) * rows_per_block, len(source_array))),
                  source_array[b * rows_per_block:(b + 1) * rows_per_block], options) for b in todo}
 
@@ -585,13 +641,9 @@ def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
 
 
 def _marker_record(path: Path, block: int) -> Optional[dict]:
-    folder = path / "done" / _block_name(block)
     try:
-        if (folder / "zarr.json").is_file():
-            with open(folder / "zarr.json") as file:
-                return json.load(file).get("attributes")
-        with open(folder / ".zattrs") as file:
-            return json.load(file)
+        with open(path / "done" / _block_name(block) / "zarr.json") as file:
+            return json.load(file).get("attributes")
     except (OSError, ValueError):
         return None
 

@@ -538,27 +538,44 @@ NB_MODULE(_core, m) {
     return matrix;
   };
 
+  // The dense matrix written into `out` (sources x columns, float64, or float32: each distance rounded to
+  // nearest) as the library hands over its blocks of a few rows: no other copy of the matrix is made, so a
+  // float32 matrix never exists as float64 in full.
+  using MatrixArray = nb::ndarray<nb::ndim<2>, nb::c_contig, nb::device::cpu>;
   m.def(
-      "distance_matrix",
+      "fill_distance_matrix",
       [matrix_options](const exactgeo::Mesh& mesh, const IndexArray& sources, const IndexArray& targets,
-                       bool has_targets, exactgeo::GeodesicOptions options, unsigned threads,
+                       bool has_targets, exactgeo::GeodesicOptions options, unsigned threads, const MatrixArray& out,
                        const nb::object& progress) {
         const std::size_t columns = has_targets ? targets.shape(0) : mesh.vertex_count();
-        std::vector<double> matrix = run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
-          options.stop = stop;
-          counter.total = sources.shape(0);
-          std::vector<double> rows(sources.shape(0) * columns);
-          exactgeo::for_each_distance_block(mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
-                                            [&](std::size_t first, std::span<const double> block) {
-                                              std::copy(block.begin(), block.end(), rows.begin() + first * columns);
-                                              counter.done = first + (columns ? block.size() / columns : 0);
-                                            });
-          return rows;
-        });
-        return to_numpy(std::move(matrix), {sources.shape(0), columns});
+        if (out.shape(0) != sources.shape(0) || out.shape(1) != columns)
+          throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                                "out has shape (" + std::to_string(out.shape(0)) + ", " + std::to_string(out.shape(1)) +
+                                    "), not (" + std::to_string(sources.shape(0)) + ", " + std::to_string(columns) + ")");
+        const auto fill = [&](auto* values) {
+          run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
+            options.stop = stop;
+            counter.total = sources.shape(0);
+            exactgeo::for_each_distance_block(
+                mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
+                [&](std::size_t first, std::span<const double> block) {
+                  using Value = std::remove_pointer_t<decltype(values)>;
+                  std::transform(block.begin(), block.end(), values + first * columns,
+                                 [](double distance) { return static_cast<Value>(distance); });
+                  counter.done = first + (columns ? block.size() / columns : 0);
+                });
+            return true;
+          });
+        };
+        if (out.dtype() == nb::dtype<double>())
+          fill(static_cast<double*>(out.data()));
+        else if (out.dtype() == nb::dtype<float>())
+          fill(static_cast<float*>(out.data()));
+        else
+          throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument, "out must hold float64 or float32 values");
       },
       "mesh"_a, "sources"_a.noconvert(), "targets"_a.noconvert(), "has_targets"_a, "options"_a, "threads"_a,
-      "progress"_a.none());
+      "out"_a.noconvert(), "progress"_a.none());
 
   // The finite entries as compressed sparse rows: values, column indices and row offsets.
   m.def(

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 import random
 import re
 import shutil
@@ -23,6 +24,8 @@ try:
     import zarr
 except ImportError:
     pytest.skip("reading Zarr stores needs zarr: pip install 'exactgeo[distributed]'", allow_module_level=True)
+if int(zarr.__version__.split(".")[0]) < 3:
+    pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
 
 from exactgeo import distributed
 
@@ -133,6 +136,35 @@ def test_an_interrupted_run_resumed_computes_exactly_the_missing_blocks(cli, tmp
     assert computed_blocks(again.stderr) == 27 and np.array_equal(dense(store), expected)
 
 
+def interrupt_pending_at_start() -> None:
+    """In the child before exec: SIGINT held back and already sent, so the command starts with an interrupt
+    pending (a blocked signal stays pending, and blocked, across exec)."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+@pytest.mark.parametrize("max_distance", [None, 0.6])
+def test_an_interrupt_while_the_store_is_built_leaves_nothing_behind(cli, tmp_path, max_distance):
+    # The command holds interrupts back while it builds a folder (the new store, a sparse block's pieces) and
+    # then removes what it built: an interrupt arriving at any moment of the building does what one pending
+    # from the start does once the building is over. The first folder built is the store itself.
+    store = tmp_path / "stores" / "m.zarr"
+    cut = [] if max_distance is None else ["--max-distance", max_distance]
+    command = [str(CLI), "matrix", TORUS, "--sources", SOURCE_LIST, "--block-rows", 4, *cut, "--out", store, "--quiet"]
+    process = subprocess.run(list(map(str, command)), preexec_fn=interrupt_pending_at_start, capture_output=True,
+                             text=True)
+    assert process.returncode == -signal.SIGINT, process.stderr
+    assert list((tmp_path / "stores").iterdir()) == []  # neither the store nor its hidden folder
+    # Once the store is made, an interrupt while a sparse block's pieces are built leaves no hidden folder either.
+    if max_distance is not None:
+        run_cli(*command[1:], "--shard", "0/8")
+        process = subprocess.run(list(map(str, command)) + ["--resume"], preexec_fn=interrupt_pending_at_start,
+                                 capture_output=True, text=True)
+        assert process.returncode == -signal.SIGINT, process.stderr
+        assert [p.name for p in (store / "csr").iterdir()] == ["block_000000", "zarr.json"]
+        assert distributed.store_status(store).done == (0,)
+
+
 def test_the_command_and_python_continue_each_others_stores(cli, tmp_path):
     mesh_file = write_obj(tmp_path / "torus.obj", *exactgeo.make_bumpy_torus(24, 12))
     mesh = exactgeo.Mesh.load(mesh_file)
@@ -168,6 +200,19 @@ def test_the_command_and_python_continue_each_others_stores(cli, tmp_path):
         else:
             reference = exactgeo.distance_matrix(mesh, SOURCES, max_distance=max_distance)
             assert (distributed.read_sparse(store) != reference).nnz == 0
+
+
+@pytest.mark.parametrize("dtype", ["float32", "float64"])
+def test_the_command_and_python_write_the_same_chunks_and_hashes(cli, tmp_path, dtype):
+    stores = {"command": tmp_path / "command.zarr", "python": tmp_path / "python.zarr"}
+    run_cli("matrix", TORUS, "--sources", SOURCE_LIST, "--dtype", dtype, "--block-rows", 5, "--out", stores["command"])
+    with ThreadPoolExecutor(2) as executor:  # 7 blocks, the last one of 2 rows: a chunk padded with NaN
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, stores["python"], dtype=dtype, block_rows=5, client=executor)
+    chunks = {name: tree(store / "distances" / "c") for name, store in stores.items()}
+    assert len(chunks["python"]) == 7 and chunks["python"] == chunks["command"]
+    hashes = {name: [zarr.open_group(str(store / "done" / f"block_{b:06d}"), mode="r").attrs["sha256"] for b in range(7)]
+              for name, store in stores.items()}
+    assert hashes["python"] == hashes["command"]
 
 
 def test_a_store_made_for_another_matrix_is_refused_unchanged(cli, tmp_path):

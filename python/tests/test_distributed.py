@@ -4,6 +4,7 @@ executors, written into Zarr stores block by block, with done markers, resumptio
 from __future__ import annotations
 
 import functools
+import json
 import os
 import subprocess
 import sys
@@ -20,6 +21,8 @@ try:
 except ImportError:
     pytest.skip("exactgeo.distributed needs dask[distributed] and zarr: pip install 'exactgeo[distributed]'",
                 allow_module_level=True)
+if int(zarr.__version__.split(".")[0]) < 3:
+    pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
 
 from exactgeo import distributed
 
@@ -211,10 +214,8 @@ def test_the_sparse_layout_equals_distance_matrix_with_max_distance(client, tmp_
     part = distributed.read_sparse(tmp_path / "s.zarr", rows=slice(6, 13))
     assert np.array_equal(part.toarray(), reference[6:13].toarray())
     # Rows of block 0 only are read while block 3 is missing; rows in block 3 name it.
-    for name in ("zarr.json", ".zgroup"):  # the marker in Zarr format v3, v2
-        marker = tmp_path / "s.zarr" / "done" / "block_000003" / name
-        if marker.exists():
-            marker.rename(marker.with_name("moved"))
+    marker = tmp_path / "s.zarr" / "done" / "block_000003" / "zarr.json"
+    marker.rename(marker.with_name("moved"))
     assert np.array_equal(distributed.read_sparse(tmp_path / "s.zarr", rows=range(0, 4)).toarray(),
                           reference[0:4].toarray())
     with pytest.raises(ValueError, match=r"blocks \[3\] are not done"):
@@ -309,3 +310,59 @@ def test_verify_finds_blocks_whose_data_is_not_what_their_marker_says(tmp_path):
     assert np.array_equal(dense(tmp_path / "d.zarr"), REFERENCE)
     reference = exactgeo.distance_matrix(MESH, SOURCES, max_distance=0.6)
     assert np.array_equal(distributed.read_sparse(tmp_path / "s.zarr").data, reference.data.astype(np.float32))
+
+
+def test_blocks_are_computed_into_their_chunk_rounded_once_to_float32(tmp_path):
+    from exactgeo._many_sources import fill_distance_matrix
+
+    rounded = np.empty(REFERENCE.shape, dtype=np.float32)
+    fill_distance_matrix(rounded, MESH, SOURCES, threads=2)
+    assert np.isinf(rounded).any() and np.array_equal(rounded, REFERENCE.astype(np.float32))
+    with pytest.raises(ValueError, match=r"out has shape \(30, 10\), not \(30, 576\)"):
+        fill_distance_matrix(np.empty((30, 10), dtype=np.float32), MESH, SOURCES)
+    with pytest.raises(ValueError, match="float64 or float32"):
+        fill_distance_matrix(np.empty(REFERENCE.shape, dtype=np.float16), MESH, SOURCES)
+    store = tmp_path / "d.zarr"
+    with ThreadPoolExecutor(2) as executor:
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, store, block_rows=4, client=executor)
+    assert np.array_equal(dense(store), REFERENCE.astype(np.float32))
+    # The last block (2 rows) fills a whole chunk, the rows beyond the array's edge NaN, as Zarr pads it.
+    last = np.fromfile(store / "distances" / "c" / "7" / "0", dtype="<f4").reshape(4, MESH.vertex_count)
+    assert np.array_equal(last[:2], REFERENCE[28:].astype(np.float32)) and np.isnan(last[2:]).all()
+    assert distributed.store_status(store, verify=True).corrupt == ()
+
+
+def test_an_interrupt_while_the_store_is_made_leaves_nothing_behind(tmp_path, monkeypatch):
+    real = distributed._array_of
+
+    def interrupted_at_the_faces(group, name, values, dimensions):
+        if name == "faces":
+            raise KeyboardInterrupt
+        real(group, name, values, dimensions)
+
+    monkeypatch.setattr(distributed, "_array_of", interrupted_at_the_faces)
+    with ThreadPoolExecutor(1) as executor, pytest.raises(KeyboardInterrupt):
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "d.zarr", block_rows=4, client=executor)
+    assert list(tmp_path.iterdir()) == []  # neither the store nor the hidden folder it was built in
+    monkeypatch.setattr(distributed, "_array_of", real)
+    with ThreadPoolExecutor(1) as executor:
+        run = distributed.distance_matrix_to_zarr(MESH, SOURCES, tmp_path / "d.zarr", block_rows=4, client=executor)
+    assert run.computed == tuple(range(8)) and [p.name for p in tmp_path.iterdir()] == ["d.zarr"]
+
+
+def test_stores_whose_chunks_blocks_cannot_write_are_refused(tmp_path):
+    store = tmp_path / "d.zarr"
+    with ThreadPoolExecutor(1) as executor:
+        distributed.distance_matrix_to_zarr(MESH, SOURCES[:8], store, block_rows=4, client=executor)
+        metadata_path = store / "distances" / "zarr.json"
+        metadata = json.loads(metadata_path.read_text())
+        metadata["codecs"].append({"name": "zstd", "configuration": {"level": 0, "checksum": False}})
+        metadata_path.write_text(json.dumps(metadata))
+        with pytest.raises(ValueError, match=r"codecs \[bytes, zstd\]"):
+            distributed.distance_matrix_to_zarr(MESH, SOURCES[:8], store, client=executor, verify=True)
+        # Zarr format 2 (what zarr-python 2 made): neither read nor written.
+        zarr.open_group(str(tmp_path / "v2.zarr"), mode="w", zarr_format=2)
+        with pytest.raises(ValueError, match="Zarr format 2 store"):
+            distributed.distance_matrix_to_zarr(MESH, SOURCES[:8], tmp_path / "v2.zarr", client=executor)
+        with pytest.raises(ValueError, match="Zarr format 2 store"):
+            distributed.store_status(tmp_path / "v2.zarr")

@@ -23,7 +23,7 @@ def test_stubs_and_typed_marker_are_installed():
     package = Path(exactgeo.__file__).parent
     assert (package / "py.typed").is_file()
     stub = (package / "_core.pyi").read_text()
-    assert "class GeodesicSolver" in stub and "def distance_matrix" in stub
+    assert "class GeodesicSolver" in stub and "def fill_distance_matrix" in stub
 
 
 def test_arrays_of_every_dtype_and_order_give_the_same_mesh():
