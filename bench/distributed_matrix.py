@@ -10,7 +10,9 @@ usage: python3 bench/distributed_matrix.py [--quick] [--runs 3] [--name distribu
 Measured, in this process:
 - workloads: all-pairs on --all-pairs-mesh (every vertex a face uses, as source and as target; by default
   homer-sub1, homer 1-to-4 subdivided once: 24,002 vertices, the closed, well-shaped surface nearest the ~16K
-  vertices asked for among the shared meshes and their subdivisions) and --sources seeded sources on nefertiti, each into a fresh float32 store with the library's default blocks, on a
+  vertices asked for among the shared meshes and their subdivisions; cow-sub1, 11,609 vertices, is the one
+  just below, a fifth of the work) and --sources seeded sources on nefertiti, each into a fresh float32 store
+  with the library's default blocks, on a
   LocalCluster of 1 and of 2 single-threaded worker processes (a fresh cluster for each run, its start not
   timed), and in-process exactgeo.distance_matrix on 1 and 2 threads; the four configurations taken in turn,
   --runs times, medians reported;
@@ -71,7 +73,7 @@ kExtrapolatedVertices = 160_000
 kExtrapolatedCores = (64, 512)
 kDistributedPackages = ["numpy", "dask", "distributed", "zarr"]
 # The all-pairs workload's mesh, beside the subdivided meshes the other benchmarks share.
-kSubdividedMeshes = {**kSubdivided, "homer-sub1": ("homer", 1)}
+kSubdividedMeshes = {**kSubdivided, "homer-sub1": ("homer", 1), "cow-sub1": ("cow", 1)}
 
 
 # ------------------------------------------------------------------------------------------ on the workers
