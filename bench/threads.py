@@ -76,18 +76,16 @@ def measure_configurations(configurations: dict[str, tuple[str, list[str]]], mes
 
 
 def phase_split(exactgeo: Path, mesh_path: Path, work: Path, runs: int) -> dict:
-    """The phases of a run on 1 and on 2 threads (--timers), each the median over `runs` runs taken in turn:
-    what the threads share and what stays on one."""
+    """The phases of a run on 2 threads (--timers), each the median over `runs` runs: what the threads share
+    and what stays on one. Keyed by the thread count, as the report reads it."""
     keys = ("propagation_seconds", "window_propagation_seconds", "pruning_seconds", "queue_seconds", "parallel_seconds")
-    samples: dict[str, list[dict]] = {"1": [], "2": []}
+    stats_path = work / "timers-2.json"
+    samples = []
     for _ in range(runs):
-        for threads in samples:
-            stats_path = work / f"timers-{threads}.json"
-            run_once([str(exactgeo), "distance", str(mesh_path), "--source", "0", "--quiet", "--timers", "--threads",
-                      threads, "--stats", str(stats_path)], stats_path)
-            samples[threads].append(json.loads(stats_path.read_text()))
-    return {threads: {key: statistics.median(s[key] for s in runs_of) for key in keys}
-            for threads, runs_of in samples.items()}
+        run_once([str(exactgeo), "distance", str(mesh_path), "--source", "0", "--quiet", "--timers", "--threads", "2",
+                  "--stats", str(stats_path)], stats_path)
+        samples.append(json.loads(stats_path.read_text()))
+    return {"2": {key: statistics.median(s[key] for s in samples) for key in keys}}
 
 
 def heat_method(vertices: np.ndarray, faces: np.ndarray, exact: np.ndarray, runs: int) -> dict | None:

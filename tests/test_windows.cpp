@@ -104,7 +104,6 @@ TEST(WindowLists, ThreadsChangingDifferentListsAtOnceKeepEachListsWindows) {
   for (int rounds = 0; rounds < 4; ++rounds) {
     // Round r: thread t owns the lists h with (h + r) % kThreads == t, so ownership moves every round.
     std::vector<std::jthread> team;
-    std::vector<std::uint32_t> serials(kThreads);
     for (unsigned t = 0; t < kThreads; ++t) {
       team.emplace_back([&, t] {
         exactgeo_test::Random random(100 * rounds + t);
