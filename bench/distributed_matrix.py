@@ -55,7 +55,7 @@ from pathlib import Path
 
 import numpy as np
 import zarr
-from distributed import Client, LocalCluster
+from distributed import Client
 
 import exactgeo
 from exactgeo import distributed
@@ -112,10 +112,9 @@ def worker_peak_rss() -> int:
 
 @contextlib.contextmanager
 def local_cluster(workers: int) -> Iterator:
-    """A LocalCluster of single-threaded worker processes on loopback, without dashboard, and its client."""
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False}) as cluster, \
-            Client(cluster) as client:
+    """The LocalCluster exactgeo.distributed starts itself (single-threaded worker processes on loopback, Dask's
+    housekeeping slowed down), with `workers` workers, and its client."""
+    with distributed.local_cluster(workers) as cluster, Client(cluster) as client:
         yield client
 
 

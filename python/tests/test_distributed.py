@@ -3,11 +3,13 @@ executors, written into Zarr stores block by block, with done markers, resumptio
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import os
 import subprocess
 import sys
+import time
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
@@ -41,9 +43,7 @@ REFERENCE = exactgeo.distance_matrix(MESH, SOURCES)
 
 @pytest.fixture(scope="module")
 def client():
-    cluster = dask_distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                            dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False})
-    with cluster, dask_distributed.Client(cluster) as connected:
+    with distributed.local_cluster(2) as cluster, dask_distributed.Client(cluster) as connected:
         yield connected
 
 
@@ -273,6 +273,32 @@ def test_an_interrupted_dask_run_resumes_with_the_missing_blocks_only(client, tm
     run = distributed.distance_matrix_to_zarr(MESH, SOURCES, store, dtype="float64", client=client)
     assert run.computed == before.missing and run.reused == before.done
     assert np.array_equal(dense(store), REFERENCE)
+
+
+def test_the_local_cluster_slows_only_its_own_workers_housekeeping(client):
+    import dask
+
+    def settings():
+        return (dask.config.get("distributed.admin.tick.interval"), dask.config.get("distributed.worker.profile.enabled"),
+                dask.config.get("distributed.worker.memory.monitor-interval"))
+
+    slowed = {("1s", False, "1s")}
+    assert set(client.run(settings).values()) == slowed
+    # A worker that dies is restarted by its nanny with the same settings.
+    first = sorted(client.scheduler_info()["workers"])[0]
+    with contextlib.suppress(Exception):
+        client.run(os._exit, 1, workers=[first])
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        workers = client.scheduler_info()["workers"]
+        if len(workers) == 2 and first not in workers:
+            break
+        time.sleep(0.1)
+    assert len(workers) == 2 and first not in workers
+    assert set(client.run(settings).values()) == slowed
+    assert settings() != ("1s", False, "1s")  # this process keeps its configuration
+    with pytest.raises(ValueError, match="workers must be at least 1"):
+        distributed.local_cluster(0)
 
 
 def test_without_a_client_a_local_cluster_is_started_and_closed(tmp_path):
