@@ -104,33 +104,57 @@ bool stays_above(double at_start, double at_end, double min_slope, double max_sl
   return at_start + min_slope * std::clamp(t, 0.0, span) > floor;
 }
 
-// Rule 1 for the rays of `w` on the far side of the list's separating point sp (paper Proposition 4.1, in
-// the form the released 2016 code checks). w covers sp, and its ray through `end` (on the far side) meets
-// w_s's straight path from its pseudo-source p_s to sp behind the edge, at Y. The rays of w form a flat
-// fan without vertices inside, so inside that fan w_s's path is the straight line back from sp: Y is one
-// surface point on both paths, and so is every point where w_s's path crosses the rays of w between sp
-// and `end`. Along w_s's path towards sp the excess D_w - D_ws can only fall (|Y - p_s| grows at rate 1,
-// |Y - p_w| at most as fast), so if w_s is shorter at sp by more than the tolerance, it is at every such
-// crossing, and each of those rays of w is beaten beyond it by w_s's path to the crossing followed by the
-// rest of the ray.
-bool beaten_beyond_separating_point(const Window& w, double end, const Window& ws, double sp, double prune) {
-  const double sx = sp - ws.px, sy = -ws.py;  // w_s's path: p_s + u (sx, sy), u in [0, 1]
-  const double rx = end - w.px, ry = -w.py;   // w's ray: p_w + t (rx, ry), t in [0, 1]
-  const double denominator = rx * sy - ry * sx;
-  if (denominator == 0) return false;
-  const double cx = ws.px - w.px, cy = ws.py - w.py;
-  const double t = (cx * sy - cy * sx) / denominator, u = (cx * ry - cy * rx) / denominator;
-  if (!(t >= 0 && t <= 1 && u >= 0 && u <= 1)) return false;
-  return distance_at(w, sp) > distance_at(ws, sp) + prune;
+// Whether the rays of window w between its point e and its end `end` are beaten through window v's path to
+// e, e being a point of both windows on their edge: true if that path meets w's ray to `end` (both segments,
+// ends included). Used for Rule 1 (paper Proposition 4.1, in the form the released 2016 code checks: e is the
+// list's separating point, v the window w_s giving it, w covers e, `end` lies on the far side) and for Rule 2
+// (e an end of the windows' overlap: the 2016 code's pairwise cases). The caller checks that v is shorter
+// at e by more than the tolerance; then the rays are beaten:
+// The rays of w form a flat fan without vertices inside, and e lies in it, so inside that fan v's path is
+// the straight line back from e: if it meets w's ray through `end` at Y, Y is one surface point on both
+// paths, and so is every point where v's path crosses the rays of w between e and `end`. Along v's path
+// towards e the excess D_w - D_v can only fall (|Y - p_v| grows at rate 1, |Y - p_w| at most as fast), so
+// if v is shorter at e by more than the tolerance, it is at every such crossing, and each of those rays of
+// w is beaten beyond it by v's path to the crossing followed by the rest of the ray. This holds past the
+// end of v's own window too, where pairwise trimming cannot reach.
+// The intersection's parameters are compared with the denominator instead of divided: this runs often.
+bool crossing_beats_rays(const Window& w, double end, const Window& v, double e) {
+  const double sx = e - v.px, sy = -v.py;    // v's path: p_v + u (sx, sy), u in [0, 1]
+  const double rx = end - w.px, ry = -w.py;  // w's ray: p_w + t (rx, ry), t in [0, 1]
+  double denominator = rx * sy - ry * sx;
+  const double cx = v.px - w.px, cy = v.py - w.py;
+  double t = cx * sy - cy * sx, u = cx * ry - cy * rx;  // times the denominator
+  if (denominator < 0) {
+    denominator = -denominator;
+    t = -t;
+    u = -u;
+  }
+  return denominator > 0 && t >= 0 && t <= denominator && u >= 0 && u <= denominator;
 }
 
 enum class Verdict { keep, trimmed, removed };
+
+// `loser` is longer than `winner` by more than the tolerance over their whole overlap [lo, hi]. Its parts past
+// the overlap are beaten too if its rays there cross the winner's path to the overlap's end on that side
+// (crossing_beats_rays): exact trimming, which compares the windows where both reach, cannot see that.
+// Returns true if nothing of the loser is left; otherwise cuts the beaten parts off (the rest of it, in the
+// overlap, is for trimming to take).
+bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double hi, double min_width) {
+  const bool left = loser.b0 < lo - min_width, right = loser.b1 > hi + min_width;
+  const bool left_beaten = left && crossing_beats_rays(loser, loser.b0, winner, lo);
+  const bool right_beaten = right && crossing_beats_rays(loser, loser.b1, winner, hi);
+  if ((!left || left_beaten) && (!right || right_beaten)) return true;
+  if (left_beaten) loser.b0 = lo;
+  if (right_beaten) loser.b1 = hi;
+  return false;
+}
 
 // Over the overlap of `first` and `second` (same edge, same side), trims from either window the end
 // pieces where the other is shorter by more than the tolerance, or the second window's piece where the two
 // agree to within the tolerance throughout; removes a window that is beaten everywhere. Sound for any pair: a point of the overlap is reached by both, so a ray of the loser through it is
 // beaten by the winner's path to that point followed by the same ray.
-std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const Tolerances& tol) {
+[[gnu::always_inline]] inline std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second,
+                                                                         const Tolerances& tol) {
   const double lo = std::max(first.b0, second.b0), hi = std::min(first.b1, second.b1);
   if (!(hi - lo > tol.min_width)) return {Verdict::keep, Verdict::keep};
   const double span = hi - lo;
@@ -150,8 +174,10 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
   // overlap, there is no root to look for.
   const double min_slope = second_lo.cosine - first_hi.cosine, max_slope = second_hi.cosine - first_lo.cosine;
   if (stays_above(difference_lo, difference_hi, min_slope, max_slope, span, tol.prune)) {
+    if (beaten_past_overlap(second, first, lo, hi, tol.min_width)) return {Verdict::keep, Verdict::removed};
     sign[0] = 1;
   } else if (stays_above(-difference_lo, -difference_hi, -max_slope, -min_slope, span, tol.prune)) {
+    if (beaten_past_overlap(first, second, lo, hi, tol.min_width)) return {Verdict::removed, Verdict::keep};
     sign[0] = -1;
   } else if (stays_above(difference_lo, difference_hi, min_slope, max_slope, span, -tol.prune) &&
              stays_above(-difference_lo, -difference_hi, -max_slope, -min_slope, span, -tol.prune)) {
@@ -231,7 +257,8 @@ std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second, const
 // One step of the Rule 2 walk: checks windows[i] against the kept windows windows[0, count), from the last
 // backwards while those get removed, then keeps it (moving it down to position count) unless it was
 // removed itself.
-void keep_if_not_beaten(std::span<Window> windows, std::size_t& count, std::size_t i, const Tolerances& tol) {
+[[gnu::always_inline]] inline void keep_if_not_beaten(std::span<Window> windows, std::size_t& count, std::size_t i,
+                                                     const Tolerances& tol) {
   Window& incoming = windows[i];  // count <= i: the kept windows never reach it
   while (count > 0) {
     const auto [kept_verdict, incoming_verdict] = resolve_overlap(windows[count - 1], incoming, tol);
@@ -289,10 +316,12 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
       right_start = std::max(right_start, sp);
       // Rays on the far side of sp that Rule 1 let through (their own split point is on the same side).
       const Window& ws = list[reach.window];
-      if (left_end == sp && left_end - w.b0 > tol.min_width && beaten_beyond_separating_point(w, w.b0, ws, sp, tol.prune))
+      if (left_end == sp && left_end - w.b0 > tol.min_width && crossing_beats_rays(w, w.b0, ws, sp) &&
+          distance_at(w, sp) > distance_at(ws, sp) + tol.prune)
         left_end = w.b0;
       if (right_start == sp && w.b1 - right_start > tol.min_width &&
-          beaten_beyond_separating_point(w, w.b1, ws, sp, tol.prune))
+          crossing_beats_rays(w, w.b1, ws, sp) &&
+          distance_at(w, sp) > distance_at(ws, sp) + tol.prune)
         right_start = w.b1;
     }
     if (left_end - w.b0 > tol.min_width) {

@@ -1,0 +1,82 @@
+// Rule 2's pairwise pruning (src/propagation.cpp) on hand-built pairs of windows on one edge: a window that
+// loses the whole overlap, and whose rays past it cross the winner's path to the overlap's end on that side,
+// is cut past the overlap too; without the crossing, only the overlap is trimmed. The edge is the x axis, pseudo-sources
+// lie below it. Whether the pruning is sound on whole meshes is for the oracle, analytic and metamorphic
+// tests; these check that the crossing rule acts where it should and nowhere else.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "propagation.hpp"
+
+namespace {
+
+using exactgeo::detail::prune_neighbours;
+using exactgeo::detail::Tolerances;
+using exactgeo::detail::Window;
+
+constexpr Tolerances kTolerances{1e-12, 1e-12};
+
+Window window(double b0, double b1, double px, double py, double sigma, std::uint32_t source) {
+  return {b0, b1, px, py, sigma, source};
+}
+
+double distance_at(const Window& w, double x) { return w.sigma + std::hypot(x - w.px, w.py); }
+
+std::vector<Window> pruned(std::vector<Window> windows) {
+  windows.resize(prune_neighbours(windows, 0, kTolerances));
+  return windows;
+}
+
+// v, from a pseudo-source to the right, covers [0.5, 1.5]; w, from a pseudo-source to the left, covers
+// [1, 3]. v's path to x = 1.5 meets w's ray to x = 3 behind the edge, at (2, -1/3).
+TEST(Pruning, AWindowLosingWhereItsRaysCrossTheWinnersPathGoesWhole) {
+  const Window v = window(0.5, 1.5, 3, -1, 0, 1), w = window(1, 3, 0, -1, 1, 2);
+  ASSERT_GT(distance_at(w, 1), distance_at(v, 1));  // w loses the overlap [1, 1.5]; trimming alone
+  ASSERT_GT(distance_at(w, 1.5), distance_at(v, 1.5));  // would keep its part [1.5, 3] past v's end
+  const std::vector<Window> kept = pruned({v, w});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].pseudo_source, 1u);
+  EXPECT_EQ(kept[0].b0, v.b0);
+  EXPECT_EQ(kept[0].b1, v.b1);
+}
+
+TEST(Pruning, WithoutACrossingOnlyTheOverlapIsTrimmed) {
+  // The same windows, but w's pseudo-source sits right of v's path: its rays to [1, 3] do not cross it.
+  const Window v = window(0.5, 1.5, 3, -1, 0, 1), w = window(1, 3, 3.5, -0.5, 0, 2);
+  ASSERT_GT(distance_at(w, 1), distance_at(v, 1));
+  ASSERT_GT(distance_at(w, 1.5), distance_at(v, 1.5));  // v wins the whole overlap [1, 1.5]
+  const std::vector<Window> kept = pruned({v, w});
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].b1, v.b1);
+  EXPECT_DOUBLE_EQ(kept[1].b0, 1.5);  // w keeps what lies past v
+  EXPECT_EQ(kept[1].b1, w.b1);
+}
+
+TEST(Pruning, TheLoserAtTheOverlapsEndIsCutOnTheFarSideToo) {
+  // Now v loses at x = 1, w's start: v's rays to [0.5, 1] cross w's path to x = 1, at (0.857, -0.143) for
+  // the ray to 0.5. Trimming alone would leave v its part [0.5, 1] outside w.
+  const Window v = window(0.5, 1.5, 3, -1, 0.1, 1), w = window(1, 3, 0, -1, 0, 2);
+  ASSERT_GT(distance_at(v, 1), distance_at(w, 1));
+  ASSERT_GT(distance_at(v, 1.5), distance_at(w, 1.5));
+  const std::vector<Window> kept = pruned({v, w});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].pseudo_source, 2u);
+  EXPECT_EQ(kept[0].b0, w.b0);
+  EXPECT_EQ(kept[0].b1, w.b1);
+}
+
+TEST(Pruning, WithoutACrossingTheLoserKeepsItsPartOutsideTheOverlap) {
+  // v's pseudo-source above the line of w's path to x = 1: its rays to [0.5, 1] stay left of that path.
+  const Window v = window(0.5, 1.5, 0.2, -0.5, 0.6, 1), w = window(1, 3, 0, -1, 0, 2);
+  ASSERT_GT(distance_at(v, 1), distance_at(w, 1));
+  ASSERT_GT(distance_at(v, 1.5), distance_at(w, 1.5));
+  const std::vector<Window> kept = pruned({v, w});
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].b0, v.b0);
+  EXPECT_DOUBLE_EQ(kept[0].b1, 1.0);
+  EXPECT_EQ(kept[1].b0, w.b0);
+}
+
+}  // namespace
