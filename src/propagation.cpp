@@ -153,6 +153,8 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
 // pieces where the other is shorter by more than the tolerance, or the second window's piece where the two
 // agree to within the tolerance throughout; removes a window that is beaten everywhere. Sound for any pair: a point of the overlap is reached by both, so a ray of the loser through it is
 // beaten by the winner's path to that point followed by the same ray.
+// It and keep_if_not_beaten stay inlined in the pruning walk: every split into out-of-line calls measured
+// 2-8% slower over a whole run.
 [[gnu::always_inline]] inline std::pair<Verdict, Verdict> resolve_overlap(Window& first, Window& second,
                                                                          const Tolerances& tol) {
   const double lo = std::max(first.b0, second.b0), hi = std::min(first.b1, second.b1);
@@ -316,13 +318,11 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
       right_start = std::max(right_start, sp);
       // Rays on the far side of sp that Rule 1 let through (their own split point is on the same side).
       const Window& ws = list[reach.window];
-      if (left_end == sp && left_end - w.b0 > tol.min_width && crossing_beats_rays(w, w.b0, ws, sp) &&
-          distance_at(w, sp) > distance_at(ws, sp) + tol.prune)
-        left_end = w.b0;
-      if (right_start == sp && w.b1 - right_start > tol.min_width &&
-          crossing_beats_rays(w, w.b1, ws, sp) &&
-          distance_at(w, sp) > distance_at(ws, sp) + tol.prune)
-        right_start = w.b1;
+      auto beaten_beyond_sp = [&](double end) {
+        return crossing_beats_rays(w, end, ws, sp) && distance_at(w, sp) > distance_at(ws, sp) + tol.prune;
+      };
+      if (left_end == sp && left_end - w.b0 > tol.min_width && beaten_beyond_sp(w.b0)) left_end = w.b0;
+      if (right_start == sp && w.b1 - right_start > tol.min_width && beaten_beyond_sp(w.b1)) right_start = w.b1;
     }
     if (left_end - w.b0 > tol.min_width) {
       ++propagations;
