@@ -285,6 +285,11 @@ ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::
     // The shortest path to C through the window: straight if C is visible through it (then the clamped
     // split point lies on the straight line), otherwise bent at the nearer end.
     const Window& w = list[i];
+    // No path through w is shorter than the straight line from its pseudo-source: skip windows whose
+    // line is clearly longer than the best path so far (the margin covers the rounding of `distance`).
+    const double room = best.distance * (1 + 1e-14) - w.sigma;
+    const double to_apex_x = frame.apex_x - w.px, to_apex_y = frame.apex_y - w.py;
+    if (!(room > 0) || to_apex_x * to_apex_x + to_apex_y * to_apex_y > room * room) continue;
     const double crossing = std::clamp(splits[i], w.b0, w.b1);
     const double distance = w.sigma + length(crossing - w.px, w.py) + length(frame.apex_x - crossing, frame.apex_y);
     if (distance < best.distance) best = {distance, i, crossing};
