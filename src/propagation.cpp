@@ -298,8 +298,8 @@ ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::
 }
 
 std::uint64_t cross_face(std::span<const Window> list, std::span<const double> splits, const FaceFrame& f,
-                         const ApexReach& reach, bool rule1,
-                         const CornerDistances& corners, const Tolerances& tol, std::vector<Window>& to_ac,
+                         const ApexReach& reach, bool rule1, const CornerDistances& corners, SideExit ac_exit,
+                         SideExit bc_exit, const Tolerances& tol, std::vector<Window>& to_ac,
                          std::vector<Window>& to_bc) {
   const double length_ac_frame = length(f.apex_x, f.apex_y);
   const double length_bc_frame = length(f.length - f.apex_x, f.apex_y);
@@ -309,7 +309,7 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
                sin_b = length_bc_frame > 0 ? f.apex_y / length_bc_frame : 0;
   EXACTGEO_ASSERT(splits.size() == list.size() && reach.window < list.size());
   std::uint64_t propagations = 0;
-  const std::size_t bc_begin = to_bc.size();
+  const std::size_t ac_begin = to_ac.size(), bc_begin = to_bc.size();
   for (std::size_t i = 0; i < list.size(); ++i) {
     const Window& w = list[i];
     // Rays left of the split point reach AC, rays right of it reach BC. Rule 1 (paper Proposition 4.1, in a
@@ -329,22 +329,28 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
       if (left_end == sp && left_end - w.b0 > tol.min_width && beaten_beyond_sp(w.b0)) left_end = w.b0;
       if (right_start == sp && w.b1 - right_start > tol.min_width && beaten_beyond_sp(w.b1)) right_start = w.b1;
     }
+    // A piece leaving through a boundary side counts as propagated, but there is nothing to compute: its
+    // rays leave the surface.
     if (left_end - w.b0 > tol.min_width) {
       ++propagations;
       Window out = cross_to_side(w, w.px, w.b0, left_end, cos_a, sin_a, f.length_ac, tol.min_width);
-      if (check_with_vertices(out, f.length_ac, corners.a, corners.c, tol)) to_ac.push_back(out);
+      if (ac_exit.open && check_with_vertices(out, f.length_ac, corners.a, corners.c, tol))
+        to_ac.push_back(to_twin_frame(out, f.length_ac, ac_exit.reversed));
     }
     if (w.b1 - right_start > tol.min_width) {
       ++propagations;
       // Mirror x -> length - x so that B is the origin; the piece's ends swap.
       Window out = cross_to_side(w, f.length - w.px, f.length - w.b1, f.length - right_start, cos_b, sin_b,
                                  f.length_bc, tol.min_width);
-      if (check_with_vertices(out, f.length_bc, corners.b, corners.c, tol)) to_bc.push_back(out);
+      if (bc_exit.open && check_with_vertices(out, f.length_bc, corners.b, corners.c, tol))
+        to_bc.push_back(to_twin_frame(out, f.length_bc, bc_exit.reversed));
     }
   }
-  // Windows reach BC (measured from B) in the reverse order of their position on AB; keep each output list
-  // ordered along its edge so that neighbours in the list are neighbours on the edge.
-  std::reverse(to_bc.begin() + static_cast<std::ptrdiff_t>(bc_begin), to_bc.end());
+  // Keep each output list ordered along its edge, so that neighbours in the list are neighbours on the edge.
+  // Windows reach AC in the order of their position on AB as seen from A, and BC in the reverse order as seen
+  // from B: on a consistently oriented mesh the frame across BC runs from C, and that order is kept.
+  if (ac_exit.reversed) std::reverse(to_ac.begin() + static_cast<std::ptrdiff_t>(ac_begin), to_ac.end());
+  if (!bc_exit.reversed) std::reverse(to_bc.begin() + static_cast<std::ptrdiff_t>(bc_begin), to_bc.end());
   return propagations;
 }
 

@@ -44,13 +44,21 @@ struct CornerDistances {
   double a, b, c;
 };
 
-// Crosses every window of `list` (on AB, with the split points from reach_apex) into the triangle and appends the parts leaving through AC to
-// `to_ac` (frame: A at the origin, x along AC, B's side at y < 0) and through BC to `to_bc` (frame: B at the
-// origin, x along BC), dropping parts that Rule 1 (if `rule1`) or the vertex check shows redundant.
-// Returns the number of window propagations performed.
+// Where windows leaving the triangle through a side go: to the halfedge across it (none on a boundary, where
+// they leave the surface), whose frame starts at the same end as the side (A for AC, B for BC) or, reversed,
+// at the other.
+struct SideExit {
+  bool open;
+  bool reversed;
+};
+
+// Crosses every window of `list` (on AB, with the split points from reach_apex) into the triangle and appends
+// the parts leaving through AC to `to_ac` and through BC to `to_bc`, each in the frame of the halfedge across
+// that side and ordered along it, dropping parts that Rule 1 (if `rule1`) or the vertex check shows
+// redundant. Returns the number of window propagations performed.
 std::uint64_t cross_face(std::span<const Window> list, std::span<const double> splits, const FaceFrame& frame,
-                         const ApexReach& reach, bool rule1,
-                         const CornerDistances& corners, const Tolerances& tolerances, std::vector<Window>& to_ac,
+                         const ApexReach& reach, bool rule1, const CornerDistances& corners, SideExit ac_exit,
+                         SideExit bc_exit, const Tolerances& tolerances, std::vector<Window>& to_ac,
                          std::vector<Window>& to_bc);
 
 // Rule 2 (paper Section 4.2): walks the windows once, checking each against the windows kept before it

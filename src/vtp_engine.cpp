@@ -492,7 +492,15 @@ std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> inc
   at_apex = Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py};
   const CornerDistances corners = {distance_[mesh_.tail(h)], distance_[mesh_.head(h)],
                                    std::min(distance_[mesh_.apex(h)], reach.distance)};
-  return cross_face(incoming, splits, frame, reach, options_.rule1, corners, tolerances_, to_ac, to_bc);
+  return cross_face(incoming, splits, frame, reach, options_.rule1, corners,
+                    exit_through(prev_halfedge(h), mesh_.tail(h)), exit_through(next_halfedge(h), mesh_.head(h)),
+                    tolerances_, to_ac, to_bc);
+}
+
+// Where windows crossing to `side`, measured from its end `origin`, continue (see SideExit).
+SideExit VtpEngine::exit_through(std::uint32_t side, std::uint32_t origin) const {
+  const std::uint32_t g = mesh_.twin[side];
+  return {g != kNone, g != kNone && mesh_.tail(g) != origin};
 }
 
 // Hands windows that crossed to `side` (a halfedge of the face just crossed; their frame has `origin` at
@@ -512,16 +520,14 @@ void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::u
   if (to.joining == Joining::inside) schedule(to.edge);
 }
 
-// Moves windows that crossed to `side` into the frame of the halfedge on the other side (kept ordered
-// along it) and drops those beyond the cut-off (the kept ones come first), and says how they join its list.
+// Of the windows that crossed to `side` (already in the frame of the halfedge on the other side, as
+// cross_face leaves them), drops those beyond the cut-off (the kept ones come first), and says how they join
+// that halfedge's list.
 VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin,
                                          bool prime) const {
   const std::uint32_t g = mesh_.twin[side];
   if (g == kNone) return {kNone, Joining::inside, 0};  // a boundary edge: the windows leave the surface
   const bool reversed = mesh_.tail(g) != origin;
-  const double length = mesh_.halfedges[side].length;
-  for (Window& w : windows) w = to_twin_frame(w, length, reversed);
-  if (reversed) std::reverse(windows.begin(), windows.end());
   auto kept = windows.end();
   if (cutoff_ < HUGE_VAL) kept = std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w); });
   Joining joining;

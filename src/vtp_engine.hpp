@@ -140,6 +140,7 @@ class VtpEngine {
     std::uint32_t count;  // windows left after the cut-off
   };
   Handover hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime) const;
+  SideExit exit_through(std::uint32_t side, std::uint32_t origin) const;
   std::size_t join(std::span<Window> list, std::size_t added, Joining joining, GeodesicStats& stats) const;
   void place_new_window(std::uint32_t g, const Window& w);
   bool beyond_cutoff(const Window& w) const;
