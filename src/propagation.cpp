@@ -212,10 +212,13 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
     const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
     if (std::abs(qa) * span * span > 1e-14 * scale) {
       const double disc = qb * qb - 4 * qa * qc;
-      if (disc >= 0) {
-        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+      // Ends of opposite signs prove a root, so a negative discriminant is then rounding: the root is double.
+      // (Two windows of one pseudo-source, alpha = 0, square to an exact double root, and their
+      // discriminant, zero in exact arithmetic, comes out negative about half the time.)
+      if (disc >= 0 || sign_at_lo * sign_at_hi < 0) {
+        const double q = -0.5 * (qb + std::copysign(std::sqrt(std::max(disc, 0.0)), qb));
         add_root(q / qa);
-        if (q != 0) add_root(qc / q);
+        if (q != 0 && disc > 0) add_root(qc / q);
       }
     } else if (qb != 0) {
       add_root(-qc / qb);
