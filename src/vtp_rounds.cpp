@@ -60,26 +60,31 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   }
 }
 
-// The band's vertices emit and their faces join the traversed area, in the band's order, as enclose_vertex
-// does for one vertex. Their emissions are collected first, in parallel, each with its vertex's distance as
-// the band found it; one lowered by an earlier vertex of the band emits again at the lower distance (paper
-// Section 5.2, third scenario), like any pseudo-source inside.
+// The band's vertices emit and their faces join the traversed area, as enclose_vertex does for one vertex.
+// Their emissions are collected in parallel, each with its vertex's distance as the band found it, while one
+// task enters the band's faces in the band's order (collecting reads nothing entering writes). Then the
+// emissions are applied in the band's order, onto faces already entered; one lowered by an earlier vertex of
+// the band emits again at the lower distance (paper Section 5.2, third scenario), like any pseudo-source
+// inside.
 void VtpEngine::enclose_band() {
   for (ThreadScratch& s : scratch_) s.emitted.clear();
   band_emissions_.resize(band_.size());
   {
     const PhaseTimer timer(options_.collect_timings, stats_.parallel_seconds);
-    pool_->run(band_.size(), [this](std::size_t i, unsigned thread) { collect_in_band(i, thread); });
+    pool_->run(band_.size() + 1, [this](std::size_t i, unsigned thread) {
+      if (i == 0) {
+        for (const std::uint32_t v : band_) enter_faces_of(v);
+      } else {
+        collect_in_band(i - 1, thread);
+      }
+    });
   }
   for (std::size_t i = 0; i < band_.size(); ++i) {
     const BandEmission& e = band_emissions_[i];
-    if (e.emits) {
-      const Emission& emitted = scratch_[e.thread].emitted;
-      apply_emission(band_[i], e.at,
-                     std::span(emitted.offers).subspan(e.offers_begin, e.offers_end - e.offers_begin),
-                     std::span(emitted.windows).subspan(e.windows_begin, e.windows_end - e.windows_begin));
-    }
-    enter_faces_of(band_[i]);
+    if (!e.emits) continue;
+    const Emission& emitted = scratch_[e.thread].emitted;
+    apply_emission(band_[i], e.at, std::span(emitted.offers).subspan(e.offers_begin, e.offers_end - e.offers_begin),
+                   std::span(emitted.windows).subspan(e.windows_begin, e.windows_end - e.windows_begin));
   }
 }
 
