@@ -127,6 +127,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
     for (std::uint32_t v = 0; v < n; ++v)
       faces_to_join_.push_back(mesh_.vertex_corner_offsets[v + 1] - mesh_.vertex_corner_offsets[v]);
   pending_.clear();
+  pending_front_ = 0;
   emit_queue_.clear();
   iteration_ = 0;
   register_targets(targets);
@@ -434,13 +435,16 @@ void VtpEngine::apply_emission(std::uint32_t v, double at, std::span<const Emiss
 }
 
 void VtpEngine::drain() {
-  while (!pending_.empty() || !emit_queue_.empty()) {
+  while (pending_front_ < pending_.size() || !emit_queue_.empty()) {
     if (!emit_queue_.empty()) {
       emit_lowered_pseudo_source();
       continue;
     }
-    const std::uint32_t h = pending_.front();
-    pending_.pop_front();
+    const std::uint32_t h = pending_[pending_front_++];
+    if (pending_front_ == pending_.size()) {
+      pending_.clear();
+      pending_front_ = 0;
+    }
     scheduled_[h] = 0;
     cross(h);
   }

@@ -17,7 +17,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <span>
@@ -170,7 +169,10 @@ class VtpEngine {
   WavefrontQueue vertex_queue_;                // vertex-sorted variants
   WavefrontQueue face_queue_;                  // face-sorted variants
   std::vector<std::uint32_t> faces_to_join_;   // face-sorted: per surface vertex, its faces not yet joined
-  std::deque<std::uint32_t> pending_;
+  // Lists scheduled to cross, first in first out: those before pending_front_ have crossed. Emptied whenever
+  // every one has, so it holds what one vertex (or one round) sets moving.
+  std::vector<std::uint32_t> pending_;
+  std::size_t pending_front_ = 0;
   std::vector<std::uint32_t> emit_queue_;
   std::vector<Window> to_ac_, to_bc_;
   std::vector<double> splits_, key_splits_;

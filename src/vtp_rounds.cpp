@@ -108,7 +108,7 @@ void VtpEngine::drain_in_rounds() {
     while (!emit_queue_.empty()) emit_lowered_pseudo_source();
     lists_.note_peak();
     if (pending_.empty()) return;
-    round_.assign(pending_.begin(), pending_.end());
+    round_.swap(pending_);
     ++stats_.parallel_rounds;
     stats_.parallel_round_lists += round_.size();
     pending_.clear();
