@@ -54,8 +54,9 @@ struct SurfaceMesh {
   std::vector<std::uint32_t> input_copies;             // surface vertices of each input vertex
   std::vector<std::uint32_t> canonical_input;          // input vertex -> the one it was welded into (or itself)
 
-  // Faces that survived validation (faces repeating a vertex are dropped), in input order, each keeping its
-  // input corner order.
+  // Faces that survived validation (faces repeating a vertex are dropped), each keeping its input corner
+  // order. Faces, and surface vertices, are numbered in spatial order, not in input order (mesh.cpp,
+  // spatial_order): the maps below and surface_to_input lead back to the input.
   std::vector<std::uint32_t> input_face_to_surface;  // input triangle -> surface face, kNone if dropped
   std::vector<std::uint32_t> surface_face_to_input;  // surface face -> input triangle
   std::vector<std::uint32_t> corner_vertex;   // 3 per face: surface vertex at each corner

@@ -17,6 +17,7 @@
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/shapes.hpp"
+#include "surface_mesh.hpp"
 #include "test_meshes.hpp"
 
 namespace {
@@ -203,6 +204,41 @@ TEST_P(PropertiesOf, InvariantUnderOrientationCornerOrderAndNumbering) {
     std::vector<double> mapped_back(d.size());
     for (std::size_t v = 0; v < d.size(); ++v) mapped_back[v] = scrambled_d[s.new_index[v]];
     EXPECT_TRUE(exactgeo_test::distances_match(mapped_back, d, kSlack));
+  }
+}
+
+// The engine numbers faces and vertices in spatial order (for its memory traffic), so that a mesh runs as
+// fast whatever order its file lists them in: a scrambled copy of a mesh gets the same numbering, seen as
+// positions, and neighbours in that numbering lie close together.
+TEST(SurfaceNumbering, FollowsSpaceNotTheInputOrder) {
+  using exactgeo_test::Vec3;
+  for (const NamedMesh& m : all_meshes()) {
+    SCOPED_TRACE(m.name);
+    const exactgeo::Mesh original(m.soup), scrambled_mesh(scrambled(m.soup, 11).soup);
+    const exactgeo::detail::SurfaceMesh &a = original.surface(), &b = scrambled_mesh.surface();
+    auto position = [](const exactgeo::detail::SurfaceMesh& s, std::uint32_t v) {
+      const std::uint32_t input = s.surface_to_input[v];
+      return Vec3{s.input_positions[3 * input], s.input_positions[3 * input + 1], s.input_positions[3 * input + 2]};
+    };
+    auto corners = [&](const exactgeo::detail::SurfaceMesh& s, std::uint32_t f) {
+      std::array<Vec3, 3> p = {position(s, s.corner_vertex[3 * f]), position(s, s.corner_vertex[3 * f + 1]),
+                               position(s, s.corner_vertex[3 * f + 2])};
+      std::sort(p.begin(), p.end());
+      return p;
+    };
+    ASSERT_EQ(a.vertex_count, b.vertex_count);
+    ASSERT_EQ(a.face_count(), b.face_count());
+    for (std::uint32_t v = 0; v < a.vertex_count; ++v) ASSERT_EQ(position(a, v), position(b, v)) << "vertex " << v;
+    for (std::uint32_t f = 0; f < a.face_count(); ++f) ASSERT_EQ(corners(a, f), corners(b, f)) << "face " << f;
+
+    // Consecutive vertices of the scrambled copy lie a few edges apart on average (in its input order, about
+    // a third of the mesh's size).
+    double steps = 0, edges = 0;
+    for (std::uint32_t v = 1; v < b.vertex_count; ++v)
+      steps += exactgeo_test::distance(position(b, v - 1), position(b, v));
+    for (std::uint32_t h = 0; h < b.corner_vertex.size(); ++h) edges += b.halfedges[h].length;
+    const double mean_edge = std::ldexp(edges / static_cast<double>(b.corner_vertex.size()), -b.scale_exponent);
+    EXPECT_LT(steps / (b.vertex_count - 1), 4 * mean_edge);
   }
 }
 
