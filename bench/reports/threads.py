@@ -90,10 +90,11 @@ def write_markdown(path: Path, report: dict) -> str:
               "cross in rounds, one after the other, the lists of a round shared by the threads. Rounds are the "
               "critical path; lists per round the width. The prediction takes the 2-thread run apart "
               "(--timers): what stays on one thread (popping a band's vertices, applying its emissions in order, "
-              "entering its faces, relaxing corners and scheduling lists between the phases) stays; the phases "
-              "the threads share (crossing, joining, collecting emissions: twice their wall time is the work of "
-              "both threads) are divided by the thread count. It assumes that work keeps scaling and the "
-              "synchronisation stays cheap, so it is an upper bound on the gain.", ""]
+              "relaxing corners and scheduling lists between the phases) stays; the phases the threads share "
+              "(crossing, joining, collecting emissions while one task enters the band's faces: twice their wall "
+              "time is the work of both threads) are divided by the thread count. It assumes that work keeps "
+              "scaling (entering the faces, one task, does not) and the synchronisation stays cheap, so it is an "
+              "upper bound on the gain.", ""]
     rows = []
     for mesh in report["meshes"]:
         two = mesh["results"]["2-threads"]
