@@ -211,18 +211,20 @@ TEST_P(PropertiesOf, InvariantUnderOrientationCornerOrderAndNumbering) {
 // fast whatever order its file lists them in: a scrambled copy of a mesh gets the same numbering, seen as
 // positions, and neighbours in that numbering lie close together.
 TEST(SurfaceNumbering, FollowsSpaceNotTheInputOrder) {
-  using exactgeo_test::Vec3;
+  using exactgeo::detail::SurfaceMesh;
   for (const NamedMesh& m : all_meshes()) {
     SCOPED_TRACE(m.name);
-    const exactgeo::Mesh original(m.soup), scrambled_mesh(scrambled(m.soup, 11).soup);
-    const exactgeo::detail::SurfaceMesh &a = original.surface(), &b = scrambled_mesh.surface();
-    auto position = [](const exactgeo::detail::SurfaceMesh& s, std::uint32_t v) {
-      const std::uint32_t input = s.surface_to_input[v];
-      return Vec3{s.input_positions[3 * input], s.input_positions[3 * input + 1], s.input_positions[3 * input + 2]};
+    const MeshSoup scrambled_soup = scrambled(m.soup, 11).soup;
+    const exactgeo::Mesh original(m.soup), scrambled_mesh(scrambled_soup);
+    const SurfaceMesh &a = original.surface(), &b = scrambled_mesh.surface();
+    // Where surface vertex v of a (or b) lies.
+    auto position = [&](const SurfaceMesh& s, std::uint32_t v) {
+      const MeshSoup& soup = &s == &a ? m.soup : scrambled_soup;
+      return exactgeo_test::vertex_position(soup, s.surface_to_input[v]);
     };
-    auto corners = [&](const exactgeo::detail::SurfaceMesh& s, std::uint32_t f) {
-      std::array<Vec3, 3> p = {position(s, s.corner_vertex[3 * f]), position(s, s.corner_vertex[3 * f + 1]),
-                               position(s, s.corner_vertex[3 * f + 2])};
+    auto corners = [&](const SurfaceMesh& s, std::uint32_t f) {
+      std::array<exactgeo_test::Vec3, 3> p;
+      for (std::uint32_t k = 0; k < 3; ++k) p[k] = position(s, s.corner_vertex[3 * f + k]);
       std::sort(p.begin(), p.end());
       return p;
     };
