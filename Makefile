@@ -69,7 +69,8 @@ test: build python
 # The engine's unit tests (exactgeo_tests) under AddressSanitizer and UndefinedBehaviorSanitizer with the
 # invariant checks (EXACTGEO_ASSERT) on, and the mesh readers fuzzed for a few seconds from
 # tests/fuzz/corpus. -O1 keeps the sanitized tests fast; the oracle tests are left to the main build, where
-# they already take minutes.
+# they already take minutes, and the property sweeps take only the smaller shared meshes. The tests run as two
+# shards, one process each (tests/CMakeLists.txt).
 asan-build: deps
 	cmake -S . -B $(ASAN_BUILD_DIR) -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
 	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DEXACTGEO_SANITIZE=ON -DEXACTGEO_ASSERTIONS=ON -DEXACTGEO_BUILD_FUZZERS=ON \

@@ -31,9 +31,16 @@ using exactgeo_test::vertex_count;
 // Relative slack of every inequality, as a fraction of the largest distance.
 constexpr double kSlack = 1e-12;
 // Real meshes up to these sizes keep the suite fast: the first for checks of one run per source, the second
-// for checks that compare several runs.
+// for checks that compare several runs. The sanitizer build, several times slower, takes the smaller ones:
+// the main build checks the rest, and the sanitizers look for memory errors, which the generated meshes and
+// the small scans reach as well.
+#ifdef EXACTGEO_TESTS_SANITIZED
+constexpr std::size_t kMaxSharedFaces = 6'500;
+constexpr std::size_t kMaxSharedFacesForComparisons = 2'100;
+#else
 constexpr std::size_t kMaxSharedFaces = 13'000;
 constexpr std::size_t kMaxSharedFacesForComparisons = 6'500;
+#endif
 
 struct NamedMesh {
   std::string name;
