@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "command.hpp"
+#include "output_options.hpp"
 #include "inputs.hpp"
 #include "progress.hpp"
 #include "report_fields.hpp"

@@ -11,7 +11,7 @@
 
 #include "command.hpp"
 #include "inputs.hpp"
-#include "outputs.hpp"
+#include "output_options.hpp"
 #include "progress.hpp"
 #include "zarr_store.hpp"
 

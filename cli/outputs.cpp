@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "npy.hpp"
 
 namespace exactgeo::cli {

@@ -3,8 +3,7 @@
 // format is one writer and one table line.
 #pragma once
 
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <cstdint>
 #include <cstdio>
@@ -53,22 +52,6 @@ std::pair<std::string, std::string> format_names(std::span<const Format<Writer>>
   }
   const bool to_stdout = find_format(formats, std::string(kStdout)) != nullptr;
   return {"FILE.{" + braces + "}" + (to_stdout ? "|-" : ""), sentence + (to_stdout ? " (or - for CSV on stdout)" : "")};
-}
-
-// Adds an output option to `command` that accepts the table's extensions (a usage error otherwise); `what`
-// names the output in the message: "unsupported WHAT file 'x.xyz': the extension must be .txt or .csv".
-template <class Writer>
-CLI::Option* add_output_option(CLI::App& command, const std::string& name, std::string& path,
-                               const std::string& help, std::span<const Format<Writer>> formats,
-                               const std::string& what) {
-  const auto [type_name, extensions] = format_names(formats);
-  const CLI::Validator check(
-      [formats, what, extensions](std::string& file) -> std::string {
-        if (find_format(formats, file)) return {};
-        return "unsupported " + what + " file '" + file + "': the extension must be " + extensions;
-      },
-      "", what);
-  return command.add_option(name, path, help)->check(check)->type_name(type_name);
 }
 
 // An output file that appears only when complete: written to a temporary file beside its destination and

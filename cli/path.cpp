@@ -5,7 +5,7 @@
 
 #include "command.hpp"
 #include "inputs.hpp"
-#include "outputs.hpp"
+#include "output_options.hpp"
 
 namespace exactgeo::cli {
 namespace {
