@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test asan-build test-asan test-tsan fuzz bench bench-quick paper clean
+.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -51,20 +51,27 @@ sdist: wheel-tools
 # The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
 # runs the Python tests and the command there (tests/package/test_wheel.py); and a source build without a
 # compiler says what to install (tests/package/test_no_compiler.py).
+RUN_WHEEL_TESTS = EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package
 test-wheel: wheel
-	EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package
+	$(RUN_WHEEL_TESTS)
 
 # Exact distances on the built-in bumpy torus from vertex 0, with a summary.
 demo: build
 	$(BUILD_DIR)/cli/exactgeo distance @torus --source 0
 
+# The Python suites run mostly on one core, so the wheel builds beside them (each one's output kept together),
+# and its own tests follow.
 test: build python
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	$(MAKE) test-asan
+	$(MAKE) -j 2 --output-sync=target test-python wheel
+	$(RUN_WHEEL_TESTS)
+
+# The benchmark's tests and the Python package's, against the package `make python` installed.
+test-python:
 	python3 -m pip install -q -r bench/requirements-test.txt
 	python3 -m pytest -q bench
 	EXACTGEO_BUILD_DIR=$(BUILD_DIR) python3 -m pytest -q python/tests
-	$(MAKE) test-wheel
 
 # The engine's unit tests (exactgeo_tests) under AddressSanitizer and UndefinedBehaviorSanitizer with the
 # invariant checks (EXACTGEO_ASSERT) on, and the mesh readers fuzzed for a few seconds from
