@@ -9,8 +9,8 @@
 #include <string_view>
 
 #include "command.hpp"
-#include "output_options.hpp"
 #include "inputs.hpp"
+#include "output_options.hpp"
 #include "progress.hpp"
 #include "report_fields.hpp"
 
