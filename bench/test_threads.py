@@ -58,3 +58,5 @@ def test_a_run_without_baseline_or_heat_leaves_those_cells_empty(tmp_path):
     text = write_markdown(tmp_path / "threads.md", {**report(record), "baseline": None})
     row = next(line for line in text.splitlines() if line.startswith("| m |"))
     assert row.count("—") == 4  # baseline propagations, time, and both ratios against it
+    assert "No heat figures for m: potpourri3d was not installed" in text
+    assert len([line for line in text.splitlines() if line.startswith("| m |")]) == 2  # no heat row

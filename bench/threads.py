@@ -19,10 +19,12 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import importlib.util
 import json
 import os
 import statistics
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -122,6 +124,9 @@ def main() -> None:
     parser.add_argument("--work-dir", type=Path, default=kBenchDir / "work")
     parser.add_argument("--results-dir", type=Path, default=kBenchDir / "results")
     args = parser.parse_args()
+    if importlib.util.find_spec("potpourri3d") is None:
+        print("potpourri3d is not installed: no heat-method figures (pip install -r bench/requirements.txt)",
+              file=sys.stderr, flush=True)
     exactgeo = (args.build_dir / "cli" / "exactgeo").resolve()
     configurations = {"1-thread": (str(exactgeo), ["--threads", "1"]), "2-threads": (str(exactgeo), ["--threads", "2"])}
     if args.baseline_build:  # an older command, without --threads

@@ -70,6 +70,10 @@ def write_markdown(path: Path, report: dict) -> str:
     lines += ["## Exact against the heat method", "",
               "potpourri3d's MeshHeatMethodDistanceSolver, factorised once (not counted in its solve), then one "
               "solve from vertex 0; its error against the exact distances, relative to the largest distance.", ""]
+    missing = [mesh["name"] for mesh in report["meshes"] if mesh["heat"] is None]
+    if missing:
+        lines += [f"No heat figures for {', '.join(missing)}: potpourri3d was not installed "
+                  "(`pip install -r bench/requirements.txt`).", ""]
     rows = []
     for mesh in report["meshes"]:
         heat = mesh["heat"]
