@@ -1,6 +1,7 @@
 // The public geodesic API: checks the query, runs the engine, maps surface vertices back to input vertices.
 #include "exactgeo/geodesic.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -16,8 +17,9 @@ namespace {
 
 // More threads than this for one run are a mistake (a count meant for something else), not a machine.
 constexpr unsigned kMaxThreads = 1024;
-// Faces from which one run gains from every core (see docs/performance.md).
-constexpr std::uint32_t kParallelFaceCount = 50000;
+// Faces per thread below which a thread more does not pay for its share of the synchronisation (measured on
+// 2 cores, docs/performance.md: 2 threads break even at about 10,000 faces and gain from 20,000).
+constexpr std::uint32_t kFacesPerThread = 10000;
 
 }  // namespace
 
@@ -32,7 +34,8 @@ void detail::check_options(const GeodesicOptions& options) {
 }
 
 unsigned recommended_threads(const Mesh& mesh) {
-  return mesh.face_count() >= kParallelFaceCount ? detail::threads_or_cores(0) : 1;
+  const std::size_t worth = std::max<std::size_t>(1, mesh.face_count() / kFacesPerThread);
+  return static_cast<unsigned>(std::min<std::size_t>(detail::threads_or_cores(0), worth));
 }
 
 namespace {

@@ -168,10 +168,12 @@ TEST(Threads, ZeroMeansOnePerCoreAndAbsurdCountsAreRefused) {
   }
 }
 
-TEST(Threads, TheRecommendationUsesEveryCoreOnlyOnLargeMeshes) {
-  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(1))), 1u);
-  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(7))),
-            std::max(1u, std::thread::hardware_concurrency()));
+TEST(Threads, TheRecommendationGivesEachThreadTenThousandFacesUpToEveryCore) {
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(1))), 1u);              // 80 faces
+  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(5))), std::min(cores, 2u));   // 20,480
+  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(6))), std::min(cores, 8u));   // 81,920
+  EXPECT_EQ(exactgeo::recommended_threads(Mesh(exactgeo::make_icosphere(7))), std::min(cores, 32u));  // 327,680
 }
 
 // The thread team, with more threads than a small machine has cores, so that threads are preempted within

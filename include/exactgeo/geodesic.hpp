@@ -31,9 +31,9 @@ enum class Algorithm {
   opftp,  // face-sorted wavefront, order-preserving secondary merge
 };
 
-// Threads worth giving one run on this mesh (GeodesicOptions::threads): one per core from about 50,000
-// faces on, where the parallel propagation pays for its synchronisation, else 1. The command line's and the
-// Python package's default; the library's stays 1.
+// Threads worth giving one run on this mesh (GeodesicOptions::threads): one per 10,000 faces, up to one per
+// core, so that each thread's share of the work pays for its synchronisation (1 below 20,000 faces). The
+// command line's and the Python package's default; the library's stays 1.
 EXACTGEO_API unsigned recommended_threads(const Mesh& mesh);
 
 // Names as used by the command line and the Python package, in the enum's order.

@@ -30,8 +30,8 @@ class AlgorithmOptions(TypedDict, total=False):
     rule1: bool  # paper Section 4.1: prune with the window list's separating point
     rule23: bool  # paper Sections 4.2-4.3: pairwise checks between neighbouring windows
     collect_timings: bool  # split propagation_seconds in `stats` into its phases (slows the run down by up to 60%)
-    # threads sharing one run (0: one per core). Default: one per core on meshes of 50,000 faces or more, else
-    # 1. Distances are identical for every count above 1 and agree with one thread's to 1e-14. In
+    # threads sharing one run (0: one per core). Default: one per 10,000 faces, up to one per core (1 below
+    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14. In
     # distance_matrix and farthest_point_sampling, `threads` spreads the sources over threads instead.
     threads: int
 

@@ -345,7 +345,7 @@ NB_MODULE(_core, m) {
 
   // The library's own table of names: a new Algorithm value reaches Python without a change here.
   m.def("recommended_threads", &exactgeo::recommended_threads, "mesh"_a,
-        "Threads worth giving one run on this mesh: one per core on large meshes, else 1.");
+        "Threads worth giving one run on this mesh: one per 10,000 faces, up to one per core.");
   m.def("algorithm_names", [] {
     std::vector<std::string> names;
     for (const auto& [algorithm, name] : exactgeo::kAlgorithmNames) names.emplace_back(name);
