@@ -525,6 +525,8 @@ class AnalyticDistance : public testing::TestWithParam<exactgeo::GeodesicOptions
 
 INSTANTIATE_TEST_SUITE_P(Analytic, AnalyticDistance, testing::ValuesIn(exactgeo_test::kAllVariants),
                          exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(AnalyticThreads, AnalyticDistance, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 // The references check themselves against values worked out by hand.
 TEST(AnalyticReference, VisibilityGraphHandValues) {

@@ -206,6 +206,8 @@ class MeshPolicy : public testing::TestWithParam<exactgeo::GeodesicOptions> {
 
 INSTANTIATE_TEST_SUITE_P(Mesh, MeshPolicy, testing::ValuesIn(exactgeo_test::kAllVariants),
                          exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(MeshThreads, MeshPolicy, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 TEST_P(MeshPolicy, UnreferencedVerticesAreKeptAtInfinity) {
   // Vertex 0 and the last vertex are used by no face; the grid's vertices follow vertex 0.

@@ -115,6 +115,8 @@ struct Violations {
 class PathsOf : public testing::TestWithParam<exactgeo::GeodesicOptions> {};
 
 INSTANTIATE_TEST_SUITE_P(Paths, PathsOf, testing::ValuesIn(exactgeo_test::kAllVariants), exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(PathsThreads, PathsOf, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 TEST_P(PathsOf, EveryVertexPathHasTheDistanceAsLengthAndStaysInFaces) {
   for (const HeightField& field : height_fields()) {

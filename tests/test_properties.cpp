@@ -128,6 +128,8 @@ class PropertiesOf : public testing::TestWithParam<exactgeo::GeodesicOptions> {
 
 INSTANTIATE_TEST_SUITE_P(Properties, PropertiesOf, testing::ValuesIn(exactgeo_test::kAllVariants),
                          exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(PropertiesThreads, PropertiesOf, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 TEST(PropertiesMeshes, SharedMeshesAreIncludedWhenPresent) {
   EXACTGEO_SKIP_IF_NO_SHARED_MESHES();

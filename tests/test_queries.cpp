@@ -141,6 +141,8 @@ TEST(SurfacePoints, ConstructorsAndPositions) {
 class PointQueries : public testing::TestWithParam<GeodesicOptions> {};
 INSTANTIATE_TEST_SUITE_P(Queries, PointQueries, testing::ValuesIn(exactgeo_test::kAllVariants),
                          exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(QueriesThreads, PointQueries, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 TEST_P(PointQueries, FlatGridDistancesFromPointsAreEuclidean) {
   const Mesh mesh = flat_grid();

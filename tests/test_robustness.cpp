@@ -87,6 +87,8 @@ class RobustnessUnder : public testing::TestWithParam<exactgeo::GeodesicOptions>
 
 INSTANTIATE_TEST_SUITE_P(Robustness, RobustnessUnder, testing::ValuesIn(exactgeo_test::kAllVariants),
                          exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(RobustnessThreads, RobustnessUnder, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 TEST_P(RobustnessUnder, RandomJunkSoupsGiveBoundedDistances) {
   Random random(424242);

@@ -80,6 +80,8 @@ Answers answers(const Mesh& mesh, const exactgeo::GeodesicOptions& options, doub
 class ScaleOf : public testing::TestWithParam<exactgeo::GeodesicOptions> {};
 
 INSTANTIATE_TEST_SUITE_P(Scale, ScaleOf, testing::ValuesIn(exactgeo_test::kAllVariants), exactgeo_test::variant_name);
+INSTANTIATE_TEST_SUITE_P(ScaleThreads, ScaleOf, testing::ValuesIn(exactgeo_test::kParallelVariants),
+                         exactgeo_test::variant_name);
 
 // Before: squared lengths underflowed below about 1e-78 (errors up to 100%, or no end) and overflowed above
 // about 1e79 (a crash) or 1e155 (every vertex but the source at +inf).

@@ -336,12 +336,14 @@ testing::AssertionResult distances_match(std::span<const double> actual, std::sp
 
 std::string variant_label(const exactgeo::GeodesicOptions& options) {
   return std::string(exactgeo::algorithm_name(options.algorithm)) + ", rule1 " + (options.rule1 ? "on" : "off") +
-         ", rule23 " + (options.rule23 ? "on" : "off");
+         ", rule23 " + (options.rule23 ? "on" : "off") +
+         (options.threads > 1 ? ", " + std::to_string(options.threads) + " threads" : "");
 }
 
 std::string variant_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info) {
   return std::string(exactgeo::algorithm_name(info.param.algorithm)) + "_Rule1" + (info.param.rule1 ? "On" : "Off") +
-         "_Rule23" + (info.param.rule23 ? "On" : "Off");
+         "_Rule23" + (info.param.rule23 ? "On" : "Off") +
+         (info.param.threads > 1 ? "_Threads" + std::to_string(info.param.threads) : "");
 }
 
 }  // namespace exactgeo_test

@@ -147,15 +147,25 @@ inline const std::array<exactgeo::GeodesicOptions, 16> kAllVariants = [] {
   return variants;
 }();
 
+// The parallel propagation (vertex-sorted variants only) on 2 and 3 threads, with each pruning rule switched
+// off once: the suites of generated inputs run under these too.
+inline const std::array<exactgeo::GeodesicOptions, 4> kParallelVariants = {{
+    {.algorithm = exactgeo::Algorithm::vtp, .threads = 2},
+    {.algorithm = exactgeo::Algorithm::opvtp, .threads = 3},
+    {.algorithm = exactgeo::Algorithm::vtp, .rule1 = false, .threads = 2},
+    {.algorithm = exactgeo::Algorithm::vtp, .rule23 = false, .threads = 3},
+}};
+
 // The library's defaults: the variant whose figures the tests print.
 inline bool is_default_variant(const exactgeo::GeodesicOptions& options) {
   return options.algorithm == exactgeo::Algorithm::vtp && options.rule1 && options.rule23;
 }
 
-// For messages, e.g. "ftp, rule1 off, rule23 on".
+// For messages, e.g. "ftp, rule1 off, rule23 on" or "vtp, rule1 on, rule23 on, 2 threads".
 std::string variant_label(const exactgeo::GeodesicOptions& options);
 
-// Test-name suffix for a parameter from kAllVariants, e.g. "ftp_Rule1On_Rule23Off".
+// Test-name suffix for a parameter from kAllVariants or kParallelVariants, e.g. "ftp_Rule1On_Rule23Off" or
+// "vtp_Rule1On_Rule23On_Threads2".
 std::string variant_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>& info);
 
 }  // namespace exactgeo_test
