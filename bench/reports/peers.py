@@ -56,7 +56,7 @@ def write_markdown(path: Path, report: dict) -> None:
         "",
         f"First source of each mesh (vertex 0), {runs_text(settings['repeat'])}. Each cell is "
         "**propagation time ÷ exactgeo's** · **peak RSS ÷ exactgeo's**, both from this run; above 1x, exactgeo "
-        "is faster or smaller.",
+        "is faster or smaller. exactgeo runs on one thread, as the peers do (`threads.md` has two).",
         "",
     ]
     others = [solver for solver in solvers if solver["name"] != "exactgeo"]

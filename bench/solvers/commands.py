@@ -69,7 +69,9 @@ class ExactgeoSolver(BinarySolver):
                                        "vertex_pops", "pseudo_source_emissions"]
 
     def command(self, mesh, source, distances, stats):
-        command = [str(self.executable), "distance", str(mesh.obj_path), "--source", str(source)]
+        # One thread, as every peer and every variant runs: the command's default shares a run among the cores
+        # from 20,000 faces on. threads.py measures the threads.
+        command = [str(self.executable), "distance", str(mesh.obj_path), "--source", str(source), "--threads", "1"]
         command += ["--stats", str(stats)]
         return command + (["--out", str(distances)] if distances else [])
 

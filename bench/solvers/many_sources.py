@@ -26,8 +26,10 @@ def wall_seconds(command: list[str]) -> float:
 
 
 def propagation_seconds(exactgeo: Path, mesh: Path, sources: list[int], stats: Path) -> float:
-    """One `exactgeo distance` from all of `sources`; its distances go beside `stats` as .npy."""
-    command = [str(exactgeo), "distance", str(mesh), "--stats", str(stats), "--out", str(stats.with_suffix(".npy"))]
+    """One `exactgeo distance` from all of `sources`, on one thread whatever the machine; its distances go beside
+    `stats` as .npy."""
+    command = [str(exactgeo), "distance", str(mesh), "--threads", "1", "--stats", str(stats), "--out",
+               str(stats.with_suffix(".npy"))]
     for source in sources:
         command += ["--source", str(source)]
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
