@@ -12,6 +12,7 @@ What a numpy user sees, per call, from arrays to distances:
 - matrix: distances from 16 sources to every vertex, as a user of each package would get them: exactgeo's
   distance_matrix (every core, and one thread), the others one call per source on a prepared structure.
 
+exactgeo answers single sources on one thread, as the others do (bench/results/threads.md has two threads).
 Every solver gets the same V and F arrays; conversions a peer needs happen inside its timed call, as they
 would for its users. Each time is the median over --repeat batches of calls (a batch lasts at least 20 ms),
 batches going round the solvers so a drift in machine load hits all alike. Ratios are peer time divided by
