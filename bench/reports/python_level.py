@@ -17,8 +17,8 @@ def write_markdown(path: Path, report: dict) -> None:
         f"(V float64, F int32) for every package, median of {report['settings']['repeat']} batches. "
         f"Load average at the start: {report['load_average']}; at the end: {report['load_average_at_end']}.",
         "",
-        "Each cell is the package's time divided by exactgeo's (above 1: exactgeo is faster). exactgeo runs on one "
-        "thread, as the others do, but in the distance matrix. "
+        "Each cell is the package's time divided by exactgeo's (above 1: exactgeo is faster). exactgeo answers "
+        "single sources on one thread, as the others do; the distance matrix below is timed on every core and on one. "
         "† gdist and libigl have no prepared form: they rebuild the mesh in every call.",
         "",
     ]
