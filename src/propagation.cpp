@@ -202,12 +202,18 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
     auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
     // The squared equation loses precision when the two distance functions nearly coincide: polish each
     // root with a Newton step on the difference itself, and keep it only if it stays inside the overlap.
+    // A root of the squared equation solves r2 - r1 = alpha (a real crossing) or r2 - r1 = -alpha (added by
+    // the squaring); `crossings` counts the kept roots nearer the first.
+    int crossings = 0;
     auto add_root = [&](double x) {
       if (!(x > 0 && x < span)) return;
       const double r1 = length(lo + x - first.px, first.py), r2 = length(lo + x - second.px, second.py);
       const double slope = (lo + x - second.px) / r2 - (lo + x - first.px) / r1;
-      if (std::abs(slope) > 1e-12) x -= (second.sigma + r2 - first.sigma - r1) / slope;
-      if (x > 0 && x < span) roots[root_count++] = x;
+      const double at_x = second.sigma + r2 - first.sigma - r1;
+      if (std::abs(slope) > 1e-12) x -= at_x / slope;
+      if (!(x > 0 && x < span)) return;
+      roots[root_count++] = x;
+      if (std::abs(at_x) <= std::max(std::abs(alpha), tol.prune)) ++crossings;
     };
     const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
     if (std::abs(qa) * span * span > 1e-14 * scale) {
@@ -234,6 +240,11 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
     // root.
     if (pieces == 1) {
       sign[0] = sign_at_lo * sign_at_hi < 0 ? 0 : (sign_at_lo != 0 ? sign_at_lo : sign_at_hi);
+    } else if (pieces == 2 && crossings == 1 && sign_at_lo * sign_at_hi < 0) {
+      // Ends of opposite signs leave an odd number of crossings inside, and the squared equation has at most
+      // two roots: the one crossing found is the only one, and each piece keeps the sign of its end.
+      sign[0] = sign_at_lo;
+      sign[1] = sign_at_hi;
     } else {
       for (int k = 0; k < pieces; ++k) sign[k] = sign_of_difference(difference(0.5 * (breaks[k] + breaks[k + 1])));
       if (sign[0] == -sign_at_lo) sign[0] = 0;

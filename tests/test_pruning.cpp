@@ -2,7 +2,8 @@
 // loses the whole overlap, and whose rays past it cross the winner's path to the overlap's end on that side,
 // is cut past the overlap too; without the crossing, only the overlap is trimmed. The edge is the x axis, pseudo-sources
 // lie below it. Whether the pruning is sound on whole meshes is for the oracle, analytic and metamorphic
-// tests; these check that the crossing rule acts where it should and nowhere else.
+// tests; these check that the crossing rule acts where it should and nowhere else, and that trimming two
+// windows whose distances cross keeps the nearer one on each side of the crossing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -110,4 +111,36 @@ TEST(Pruning, TwoUnfoldingsOfOneSourceMeetAtTheirBisector) {
     EXPECT_NEAR(kept[0].b1, meet, 1e-9) << "pair " << pairs;
     EXPECT_NEAR(kept[1].b0, meet, 1e-9) << "pair " << pairs;
   }
+}
+
+// Soundness of the trimming on seeded random pairs of unrelated windows (different pseudo-sources and
+// distances) overlapping on [1, 2]: wherever the originals reach inside the overlap, the windows kept reach
+// too, at most as far as the nearer original, and each kept window is a part of its original. Many pairs
+// cross inside the overlap, the case where each side of the crossing is decided from the overlap's ends.
+TEST(Pruning, TrimmingKeepsTheNearerWindowEverywhereInTheOverlap) {
+  std::mt19937_64 random(20261125);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  int crossing_pairs = 0;
+  for (int pair = 0; pair < 5000; ++pair) {
+    const Window first = window(0, 2, -3 + 9 * uniform(random), -0.1 - 5 * uniform(random), 2 * uniform(random), 1);
+    const Window second = window(1, 3, -3 + 9 * uniform(random), -0.1 - 5 * uniform(random), 2 * uniform(random), 2);
+    const double at_lo = distance_at(second, 1) - distance_at(first, 1), at_hi = distance_at(second, 2) - distance_at(first, 2);
+    if (at_lo * at_hi < 0 && std::min(std::abs(at_lo), std::abs(at_hi)) > 1e-6) ++crossing_pairs;
+    const std::vector<Window> kept = pruned({first, second});
+    for (const Window& w : kept) {
+      const Window& original = w.pseudo_source == 1 ? first : second;
+      EXPECT_TRUE(w.b0 >= original.b0 && w.b1 <= original.b1 && w.px == original.px && w.py == original.py &&
+                  w.sigma == original.sigma)
+          << "pair " << pair;
+    }
+    for (int i = 0; i <= 1000; ++i) {
+      const double x = 1 + i / 1000.0;
+      const double nearest = std::min(distance_at(first, x), distance_at(second, x));
+      double reached = HUGE_VAL;
+      for (const Window& w : kept)
+        if (x >= w.b0 - 1e-9 && x <= w.b1 + 1e-9) reached = std::min(reached, distance_at(w, x));
+      ASSERT_LE(reached, nearest + 1e-9) << "pair " << pair << " at x = " << x;
+    }
+  }
+  EXPECT_GT(crossing_pairs, 500);  // the generator does produce crossings
 }
