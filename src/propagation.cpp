@@ -215,12 +215,15 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
       roots[root_count++] = x;
       if (std::abs(at_x) <= std::max(std::abs(alpha), tol.prune)) ++crossings;
     };
-    const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
-    if (std::abs(qa) * span * span > 1e-14 * scale) {
+    if (alpha == 0) {
+      // Two unfoldings of one pseudo-source meet on the perpendicular bisector of the two: the equation is
+      // linear (squared, a double root, which rounding splits into two copies or none).
+      if (a1 != 0) add_root(-c1 / a1);
+    } else if (const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
+               std::abs(qa) * span * span > 1e-14 * scale) {
       const double disc = qb * qb - 4 * qa * qc;
-      // Ends of opposite signs prove a root, so a negative discriminant is then rounding: the root is double.
-      // (Two windows of one pseudo-source, alpha = 0, square to an exact double root, and their
-      // discriminant, zero in exact arithmetic, comes out negative about half the time.)
+      // Ends of opposite signs prove a root, so a negative discriminant is then rounding: the root is double
+      // (nearly equal distances at the pseudo-sources square to nearly a double root).
       if (disc >= 0 || sign_at_lo * sign_at_hi < 0) {
         const double q = -0.5 * (qb + std::copysign(std::sqrt(std::max(disc, 0.0)), qb));
         add_root(q / qa);
