@@ -194,16 +194,13 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
     const double alpha = first.sigma - second.sigma;
     const double r1sq = p1x * p1x + first.py * first.py, r2sq = p2x * p2x + second.py * second.py;
     const double a1 = 2 * (p1x - p2x), c1 = r2sq - r1sq - alpha * alpha;
-    const double qa = a1 * a1 - 4 * alpha * alpha;
-    const double qb = 2 * a1 * c1 + 8 * alpha * alpha * p1x;
-    const double qc = c1 * c1 - 4 * alpha * alpha * r1sq;
     std::array<double, 2> roots{};
     int root_count = 0;
     auto difference = [&](double x) { return distance_at(second, lo + x) - distance_at(first, lo + x); };
     // The squared equation loses precision when the two distance functions nearly coincide: polish each
     // root with a Newton step on the difference itself, and keep it only if it stays inside the overlap.
     // A root of the squared equation solves r2 - r1 = alpha (a real crossing) or r2 - r1 = -alpha (added by
-    // the squaring); `crossings` counts the kept roots nearer the first.
+    // the squaring); `crossings` counts the kept roots whose difference is nearer the first (zero).
     int crossings = 0;
     auto add_root = [&](double x) {
       if (!(x > 0 && x < span)) return;
@@ -219,18 +216,23 @@ bool beaten_past_overlap(Window& loser, const Window& winner, double lo, double 
       // Two unfoldings of one pseudo-source meet on the perpendicular bisector of the two: the equation is
       // linear (squared, a double root, which rounding splits into two copies or none).
       if (a1 != 0) add_root(-c1 / a1);
-    } else if (const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
-               std::abs(qa) * span * span > 1e-14 * scale) {
-      const double disc = qb * qb - 4 * qa * qc;
-      // Ends of opposite signs prove a root, so a negative discriminant is then rounding: the root is double
-      // (nearly equal distances at the pseudo-sources square to nearly a double root).
-      if (disc >= 0 || sign_at_lo * sign_at_hi < 0) {
-        const double q = -0.5 * (qb + std::copysign(std::sqrt(std::max(disc, 0.0)), qb));
-        add_root(q / qa);
-        if (q != 0 && disc > 0) add_root(qc / q);
+    } else {
+      const double qa = a1 * a1 - 4 * alpha * alpha;
+      const double qb = 2 * a1 * c1 + 8 * alpha * alpha * p1x;
+      const double qc = c1 * c1 - 4 * alpha * alpha * r1sq;
+      const double scale = std::max({std::abs(qa) * span * span, std::abs(qb) * span, std::abs(qc)});
+      if (std::abs(qa) * span * span > 1e-14 * scale) {
+        const double disc = qb * qb - 4 * qa * qc;
+        // Ends of opposite signs prove a root, so a negative discriminant is then rounding: the root is
+        // double (nearly equal distances at the pseudo-sources square to nearly a double root).
+        if (disc >= 0 || sign_at_lo * sign_at_hi < 0) {
+          const double q = -0.5 * (qb + std::copysign(std::sqrt(std::max(disc, 0.0)), qb));
+          add_root(q / qa);
+          if (q != 0 && disc > 0) add_root(qc / q);
+        }
+      } else if (qb != 0) {
+        add_root(-qc / qb);
       }
-    } else if (qb != 0) {
-      add_root(-qc / qb);
     }
     if (root_count == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
     breaks = {0, roots[0], roots[1], 0};
