@@ -461,9 +461,9 @@ void VtpEngine::emit_lowered_pseudo_source() {
 // Propagates the list entering face(h) through h across that face (paper Section 4). Flattened, like
 // run_vertex_sorted, for the face-sorted variants' sake.
 [[gnu::flatten]] void VtpEngine::cross(std::uint32_t h) {
+  if (lists_.empty(h)) return;
   // Read in place: nothing below changes the lists until this one is cleared.
-  const std::span<const Window> incoming = lists_.view(h);
-  if (incoming.empty()) return;
+  const std::span<const Window> incoming = list_to_cross(h, 0, stats_);
   const bool prime = face_visited_at_[face_of(h)] == iteration_;
   ApexReach reach;
   Arrival at_apex;
@@ -480,6 +480,15 @@ void VtpEngine::emit_lowered_pseudo_source() {
   lists_.clear(h, 0);
   deliver(prev_halfedge(h), to_ac_, mesh_.tail(h), prime);
   deliver(next_halfedge(h), to_bc_, mesh_.head(h), prime);
+}
+
+// The list entering face(h), ready to cross it: with Rules 2 and 3 on, first pruned as a whole (prune_list).
+std::span<const Window> VtpEngine::list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats) {
+  if (options_.rule23) {
+    const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
+    lists_.shrink_to(h, prune_list(lists_.edit(h), tolerances_), thread);
+  }
+  return lists_.view(h);
 }
 
 // Crosses `incoming`, the list entering face(h), into to_ac and to_bc (splits: scratch space) and returns the
@@ -520,7 +529,7 @@ void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::u
   }
   const std::span<Window> list = lists_.extend(to.edge, windows.size(), 0);
   std::copy(windows.begin(), windows.end(), list.end() - static_cast<std::ptrdiff_t>(windows.size()));
-  lists_.shrink_to(to.edge, join(list, windows.size(), to.joining, stats_), 0);
+  join(list, windows.size(), to.joining);
   if (to.joining == Joining::inside) schedule(to.edge);
 }
 
@@ -546,31 +555,19 @@ VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> w
   return {g, joining, static_cast<std::uint32_t>(kept - windows.begin())};
 }
 
-// Joins the last `added` windows of `list` (an edge's list, extended by the windows arriving there) to the
-// ones before them; returns the joined list's size.
-// - prime_merge: Rule 3's PrimeMerge on a new wavefront edge. The Rule 2 walk over the arriving windows
-//   continues from the list already there, so it prunes them among themselves and across the junction in
-//   one pass.
-// - otherwise the arriving windows are pruned among themselves (Rule 2), then stay at the end (inside the
-//   traversed area, to keep moving; or on an older wavefront edge when they came from the side of its head)
-//   or join it by SecondMerge (paper Section 5.1): order-free, windows that came from the side of the
-//   edge's tail go first; order-preserving, each is inserted where its start belongs.
-std::size_t VtpEngine::join(std::span<Window> list, std::size_t added, Joining joining, GeodesicStats& stats) const {
+// Places the last `added` windows of `list` (an edge's list, extended by the windows arriving there) among
+// the ones before them. Rules 2 and 3 prune nothing here: the list is pruned as a whole when it crosses
+// (prune_list), once however many runs have joined it.
+// - inside (to keep moving), prime_merge (Rule 3's PrimeMerge on a new wavefront edge) and wavefront_back
+//   (on an older wavefront edge, from the side of its head): they stay at the end;
+// - otherwise they join it by SecondMerge (paper Section 5.1): order-free, windows that came from the side
+//   of the edge's tail go first; order-preserving, each is inserted where its start belongs.
+void VtpEngine::join(std::span<Window> list, std::size_t added, Joining joining) {
   const std::size_t old_size = list.size() - added;
-  if (joining == Joining::prime_merge) {
-    const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
-    return prune_neighbours(list, old_size, tolerances_);
-  }
-  if (options_.rule23) {
-    const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
-    added = prune_neighbours(list.subspan(old_size), 0, tolerances_);
-  }
-  const std::span<Window> joined = list.first(old_size + added);
   if (joining == Joining::wavefront_front)
-    std::rotate(joined.begin(), joined.begin() + static_cast<std::ptrdiff_t>(old_size), joined.end());
+    std::rotate(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(old_size), list.end());
   else if (joining == Joining::wavefront_ordered)
-    insert_in_order(joined, old_size);
-  return joined.size();
+    insert_in_order(list, old_size);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -125,6 +125,7 @@ class VtpEngine {
   void drain();
   void drain_in_rounds();
   void cross(std::uint32_t h);
+  std::span<const Window> list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats);
   std::uint64_t cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
                            std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
                            Arrival& at_apex) const;
@@ -140,7 +141,7 @@ class VtpEngine {
   };
   Handover hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime) const;
   SideExit exit_through(std::uint32_t side, std::uint32_t origin) const;
-  std::size_t join(std::span<Window> list, std::size_t added, Joining joining, GeodesicStats& stats) const;
+  static void join(std::span<Window> list, std::size_t added, Joining joining);
   void place_new_window(std::uint32_t g, const Window& w);
   bool beyond_cutoff(const Window& w) const;
 

@@ -3,11 +3,13 @@
 // The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time, so
 // every step sees the last one's result. Here the wavefront advances by a band instead: every queued vertex
 // within band_width_ of the nearest joins the traversed area, and the lists set moving then cross in rounds.
-// A round crosses all lists scheduled when it starts, each on whichever thread takes it, reading only its
-// own list and the distances as they stood at the round's start, and frees it; then, in the round's order,
-// what they found at their opposite corners is applied; then each edge reached by crossed windows joins them
-// to its list (Rules 2 and 3), every edge on one thread, the windows in the round's order. Nothing a thread computes depends on what another thread does or when, so the distances are the
-// same, bit for bit, for any number of threads: only the band (a property of the mesh) shapes the work.
+// A round crosses all lists scheduled when it starts, each on whichever thread takes it, pruning it first
+// (Rules 2 and 3) and reading only its own list and the distances as they stood at the round's start, and
+// frees it; then, in the round's order, what they found at their opposite corners is applied; then each
+// edge reached by crossed windows joins them to its list, every edge on one thread, the windows in the
+// round's order. Nothing a thread computes depends on what another thread does or when, so the distances
+// are the same, bit for bit, for any number of threads: only the band (a property of the mesh) shapes the
+// work.
 //
 // Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
 // pruning compares only with lengths of real paths); the order only decides how much is pruned early. A band
@@ -165,8 +167,8 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   const std::uint32_t h = round_[i];
   c = RoundCrossing{thread, false, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
   round_flags_[i] = 0;
-  const std::span<const Window> incoming = lists_.view(h);
-  if (incoming.empty()) return;
+  if (lists_.empty(h)) return;
+  const std::span<const Window> incoming = list_to_cross(h, thread, scratch.stats);
   const std::array<std::uint32_t, 2> sides = {prev_halfedge(h), next_halfedge(h)};
   const std::array<std::uint32_t, 2> origins = {mesh_.tail(h), mesh_.head(h)};
   for (std::uint32_t side = 0; side < 2; ++side) c.begin[side] = static_cast<std::uint32_t>(scratch.crossed[side].size());
@@ -221,9 +223,9 @@ void VtpEngine::join_in_round(std::size_t i, unsigned thread) {
       const Handover& to = from.handover[deliveries[k].side];
       const Window* arriving = scratch_[from.thread].crossed[deliveries[k].side].data() + from.begin[deliveries[k].side];
       std::copy(arriving, arriving + to.count, list.begin() + static_cast<std::ptrdiff_t>(size));
-      size = join(list.first(size + to.count), to.count, to.joining, stats);
+      size += to.count;
+      join(list.first(size), to.count, to.joining);
     }
-    lists_.shrink_to(edge, size, thread);
     if (size > 0 && face_visited_at_[face_of(edge)] != kNone) round_flags_[i] |= side == 0 ? kScheduleToAC : kScheduleToBC;
   }
 }

@@ -43,6 +43,8 @@ class WindowLists {
 
   // The windows of h's list, in order; valid until h's list is next changed.
   std::span<const Window> view(std::uint32_t h) const { return {lists_[h].data, lists_[h].size}; }
+  // The same, for work in place; shrink_to gives back what that work removed.
+  std::span<Window> edit(std::uint32_t h) { return {lists_[h].data, lists_[h].size}; }
 
   // Empties h's list, giving its block back for reuse.
   void clear(std::uint32_t h, unsigned thread) {
