@@ -7,8 +7,6 @@
 namespace exactgeo::detail {
 namespace {
 
-double distance_at(const Window& w, double x) { return w.sigma + length(x - w.px, w.py); }
-
 // Whether sqrt(dx^2 + dy_squared) > bound, without the square root (bound may be +inf).
 bool longer_than(double dx, double dy_squared, double bound) { return bound < 0 || dx * dx + dy_squared > bound * bound; }
 
@@ -99,10 +97,8 @@ bool stays_above(double at_start, double at_end, double min_slope, double max_sl
 
 // Whether the rays of window w between its point e and its end `end` are beaten through window v's path to
 // e, e being a point of both windows on their edge: true if that path meets w's ray to `end` (both segments,
-// ends included). Used for Rule 1 (paper Proposition 4.1, in the form the released 2016 code checks: e is the
-// list's separating point, v the window w_s giving it, w covers e, `end` lies on the far side) and for Rule 2
-// (e an end of the windows' overlap: the 2016 code's pairwise cases). The caller checks that v is shorter
-// at e by more than the tolerance; then the rays are beaten:
+// ends included). Used for Rule 2, e an end of the windows' overlap (the 2016 code's pairwise cases). The
+// caller checks that v is shorter at e by more than the tolerance; then the rays are beaten:
 // The rays of w form a flat fan without vertices inside, and e lies in it, so inside that fan v's path is
 // the straight line back from e: if it meets w's ray through `end` at Y, Y is one surface point on both
 // paths, and so is every point where v's path crosses the rays of w between e and `end`. Along v's path
@@ -255,18 +251,13 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
     // form that is sound for every ray): a ray entering left of the list's separating point s that would
     // reach BC must cross w_s's path s -> C inside the triangle, where w_s's path is no longer (else this
     // window would reach C more cheaply than w_s); likewise for rays entering right of s that would reach AC.
+    // (The 2016 code also drops the rays of a window straddling s on s's far side when they cross w_s's path
+    // behind the edge. In a sound form that saved 0.5% of the propagations once Rule 2 walked whole lists,
+    // and the run took 5% longer with it.)
     double left_end = std::min(w.b1, splits[i]), right_start = std::max(w.b0, splits[i]);
     if (rule1) {
-      const double sp = reach.separating_point;
-      left_end = std::min(left_end, sp);
-      right_start = std::max(right_start, sp);
-      // Rays on the far side of sp that Rule 1 let through (their own split point is on the same side).
-      const Window& ws = list[reach.window];
-      auto beaten_beyond_sp = [&](double end) {
-        return crossing_beats_rays(w, end, ws, sp) && distance_at(w, sp) > distance_at(ws, sp) + tol.prune;
-      };
-      if (left_end == sp && left_end - w.b0 > tol.min_width && beaten_beyond_sp(w.b0)) left_end = w.b0;
-      if (right_start == sp && w.b1 - right_start > tol.min_width && beaten_beyond_sp(w.b1)) right_start = w.b1;
+      left_end = std::min(left_end, reach.separating_point);
+      right_start = std::max(right_start, reach.separating_point);
     }
     // A piece leaving through a boundary side counts as propagated, but there is nothing to compute: its
     // rays leave the surface.
