@@ -1,7 +1,6 @@
 #include "propagation.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 namespace exactgeo::detail {
