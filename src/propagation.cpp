@@ -200,12 +200,12 @@ enum class Removed { none, first, second };
     return Removed::none;
   }
   // Only an end of the loser that lies in the overlap can go: a window stays one interval.
+  const Removed loser_removed = loser == &first ? Removed::first : Removed::second;
   const bool starts_in = loser->b0 >= lo, ends_in = loser->b1 <= hi;
-  if (starts_in && ends_in) return loser == &first ? Removed::first : Removed::second;
+  if (starts_in && ends_in) return loser_removed;
   if (starts_in) loser->b0 = hi;
   if (ends_in) loser->b1 = lo;
-  if (loser->b1 - loser->b0 > tol.min_width) return Removed::none;
-  return loser == &first ? Removed::first : Removed::second;
+  return loser->b1 - loser->b0 > tol.min_width ? Removed::none : loser_removed;
 }
 
 // One step of the Rule 2 walk: checks windows[i] against the kept windows windows[0, count), from the last
