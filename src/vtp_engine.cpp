@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "assert.hpp"
+#include "cache_hint.hpp"
 #include "phase_timer.hpp"
 #include "stop.hpp"
 #include "tolerances.hpp"
@@ -195,6 +196,7 @@ void VtpEngine::move_inside(std::uint32_t v) {
 }
 
 void VtpEngine::enter_faces_of(std::uint32_t v) {
+  prefetch_faces_of(v);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
     if (face_visited_at_[f] == kNone) enter_face(f);
@@ -441,6 +443,7 @@ void VtpEngine::drain() {
       continue;
     }
     const std::uint32_t h = pending_[pending_front_++];
+    if (pending_front_ < pending_.size()) prefetch_crossing(pending_[pending_front_]);  // the next to cross
     if (pending_front_ == pending_.size()) {
       pending_.clear();
       pending_front_ = 0;
@@ -458,10 +461,49 @@ void VtpEngine::emit_lowered_pseudo_source() {
   if (distance_[v] < emitted_at_[v] - tolerances_.prune) emit(v);
 }
 
+// Cache hints for the records entering v's faces reads: each face's visit and its three lists.
+void VtpEngine::prefetch_faces_of(std::uint32_t v) const {
+  for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+    const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
+    prefetch(&face_visited_at_[f]);
+    lists_.prefetch_record(3 * f);
+    lists_.prefetch_record(3 * f + 2);  // the three records may straddle a cache line
+  }
+}
+
+// Cache hints for what crossing the list on h reads first: its windows and its face's frames, twins and
+// corners. Issued one list ahead.
+void VtpEngine::prefetch_crossing(std::uint32_t h) const {
+  lists_.prefetch_windows(h);
+  const std::uint32_t first = h - h % 3;
+  prefetch(&mesh_.halfedges[first]);
+  prefetch(&mesh_.halfedges[first + 2]);
+  prefetch(&mesh_.twin[first]);
+  prefetch(&mesh_.corner_vertex[first]);
+}
+
+// Cache hints for what the list on h reads once it has crossed: the distances at its face's corners, the
+// opposite corner's records for relaxing it, and the lists and faces its windows go to. Issued as the list
+// starts to cross, so that they arrive during the pruning and crossing.
+void VtpEngine::prefetch_destinations(std::uint32_t h) const {
+  const std::uint32_t first = h - h % 3;
+  for (std::uint32_t corner = first; corner < first + 3; ++corner) prefetch(&distance_[mesh_.tail(corner)]);
+  const std::uint32_t apex = mesh_.apex(h);
+  prefetch(&arrival_[apex]);
+  prefetch(&state_[apex]);
+  for (const std::uint32_t side : {prev_halfedge(h), next_halfedge(h)}) {
+    const std::uint32_t g = mesh_.twin[side];
+    if (g == kNone) continue;
+    lists_.prefetch_record(g);
+    prefetch(&face_visited_at_[face_of(g)]);
+  }
+}
+
 // Propagates the list entering face(h) through h across that face (paper Section 4). Flattened, like
 // run_vertex_sorted, for the face-sorted variants' sake.
 [[gnu::flatten]] void VtpEngine::cross(std::uint32_t h) {
   if (lists_.empty(h)) return;
+  prefetch_destinations(h);
   // Read in place: nothing below changes the lists until this one is cleared.
   const std::span<const Window> incoming = list_to_cross(h, 0, stats_);
   const bool prime = face_visited_at_[face_of(h)] == iteration_;

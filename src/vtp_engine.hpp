@@ -125,6 +125,9 @@ class VtpEngine {
   void drain();
   void drain_in_rounds();
   void cross(std::uint32_t h);
+  void prefetch_faces_of(std::uint32_t v) const;
+  void prefetch_crossing(std::uint32_t h) const;
+  void prefetch_destinations(std::uint32_t h) const;
   std::span<const Window> list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats);
   std::uint64_t cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
                            std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,

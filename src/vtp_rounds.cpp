@@ -168,6 +168,8 @@ void VtpEngine::cross_in_round(std::size_t i, unsigned thread) {
   c = RoundCrossing{thread, false, {}, {Handover{kNone, Joining::inside, 0}, Handover{kNone, Joining::inside, 0}}};
   round_flags_[i] = 0;
   if (lists_.empty(h)) return;
+  if (i + 1 < round_.size()) prefetch_crossing(round_[i + 1]);  // most often this thread's next item
+  prefetch_destinations(h);
   const std::span<const Window> incoming = list_to_cross(h, thread, scratch.stats);
   const std::array<std::uint32_t, 2> sides = {prev_halfedge(h), next_halfedge(h)};
   const std::array<std::uint32_t, 2> origins = {mesh_.tail(h), mesh_.head(h)};

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "assert.hpp"
+#include "cache_hint.hpp"
 #include "surface_mesh.hpp"
 
 namespace exactgeo::detail {
@@ -45,6 +46,10 @@ class WindowLists {
   std::span<const Window> view(std::uint32_t h) const { return {lists_[h].data, lists_[h].size}; }
   // The same, for work in place; shrink_to gives back what that work removed.
   std::span<Window> edit(std::uint32_t h) { return {lists_[h].data, lists_[h].size}; }
+
+  // Cache hints ahead of work on h's list: its record, or its windows (reading the record).
+  void prefetch_record(std::uint32_t h) const { prefetch(&lists_[h]); }
+  void prefetch_windows(std::uint32_t h) const { prefetch(lists_[h].data); }
 
   // Empties h's list, giving its block back for reuse.
   void clear(std::uint32_t h, unsigned thread) {
