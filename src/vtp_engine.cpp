@@ -496,6 +496,11 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
     if (g == kNone) continue;
     lists_.prefetch_record(g);
     prefetch(&face_visited_at_[face_of(g)]);
+    const std::uint32_t g_first = g - g % 3;
+    prefetch(&mesh_.halfedges[g_first]);
+    prefetch(&mesh_.halfedges[g_first + 2]);
+    prefetch(&mesh_.twin[g_first]);
+    prefetch(&mesh_.corner_vertex[g_first]);
   }
 }
 
