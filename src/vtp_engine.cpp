@@ -443,7 +443,10 @@ void VtpEngine::drain() {
       continue;
     }
     const std::uint32_t h = pending_[pending_front_++];
-    if (pending_front_ < pending_.size()) prefetch_crossing(pending_[pending_front_]);  // the next to cross
+    if (pending_front_ < pending_.size()) {  // the next to cross
+      lists_.prefetch_windows(pending_[pending_front_]);
+      prefetch_crossing(pending_[pending_front_]);
+    }
     if (pending_front_ == pending_.size()) {
       pending_.clear();
       pending_front_ = 0;
@@ -471,10 +474,11 @@ void VtpEngine::prefetch_faces_of(std::uint32_t v) const {
   }
 }
 
-// Cache hints for what crossing the list on h reads first: its windows and its face's frames, twins and
-// corners. Issued one list ahead.
+// Cache hints for what crossing the list on h reads first: its record and its face's frames, twins and
+// corners. Issued one list ahead. It reads only what no thread changes during a round (the list's windows
+// are asked for where no other thread can be changing its record: see drain).
 void VtpEngine::prefetch_crossing(std::uint32_t h) const {
-  lists_.prefetch_windows(h);
+  lists_.prefetch_record(h);
   const std::uint32_t first = h - h % 3;
   prefetch(&mesh_.halfedges[first]);
   prefetch(&mesh_.halfedges[first + 2]);
@@ -483,8 +487,9 @@ void VtpEngine::prefetch_crossing(std::uint32_t h) const {
 }
 
 // Cache hints for what the list on h reads once it has crossed: the distances at its face's corners, the
-// opposite corner's records for relaxing it, and the lists and faces its windows go to. Issued as the list
-// starts to cross, so that they arrive during the pruning and crossing.
+// opposite corner's records for relaxing it, and the lists, faces and face frames its windows go to (a list
+// reached inside the traversed area most often crosses next). Issued as the list starts to cross, so that
+// they arrive during the pruning and crossing. Reads only the mesh.
 void VtpEngine::prefetch_destinations(std::uint32_t h) const {
   const std::uint32_t first = h - h % 3;
   for (std::uint32_t corner = first; corner < first + 3; ++corner) prefetch(&distance_[mesh_.tail(corner)]);
