@@ -474,16 +474,20 @@ void VtpEngine::prefetch_faces_of(std::uint32_t v) const {
   }
 }
 
-// Cache hints for what crossing the list on h reads first: its record and its face's frames, twins and
-// corners. Issued one list ahead. It reads only what no thread changes during a round (the list's windows
-// are asked for where no other thread can be changing its record: see drain).
+// Cache hints for a face's frames, twins and corners (its halfedges' frames may straddle a cache line).
+void VtpEngine::prefetch_face(std::uint32_t f) const {
+  prefetch(&mesh_.halfedges[3 * f]);
+  prefetch(&mesh_.halfedges[3 * f + 2]);
+  prefetch(&mesh_.twin[3 * f]);
+  prefetch(&mesh_.corner_vertex[3 * f]);
+}
+
+// Cache hints for what crossing the list on h reads first: its record and its face. Issued one list ahead.
+// It reads only what no thread changes during a round (the list's windows are asked for where no other
+// thread can be changing its record: see drain).
 void VtpEngine::prefetch_crossing(std::uint32_t h) const {
   lists_.prefetch_record(h);
-  const std::uint32_t first = h - h % 3;
-  prefetch(&mesh_.halfedges[first]);
-  prefetch(&mesh_.halfedges[first + 2]);
-  prefetch(&mesh_.twin[first]);
-  prefetch(&mesh_.corner_vertex[first]);
+  prefetch_face(face_of(h));
 }
 
 // Cache hints for what the list on h reads once it has crossed: the distances at its face's corners, the
@@ -501,11 +505,7 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
     if (g == kNone) continue;
     lists_.prefetch_record(g);
     prefetch(&face_visited_at_[face_of(g)]);
-    const std::uint32_t g_first = g - g % 3;
-    prefetch(&mesh_.halfedges[g_first]);
-    prefetch(&mesh_.halfedges[g_first + 2]);
-    prefetch(&mesh_.twin[g_first]);
-    prefetch(&mesh_.corner_vertex[g_first]);
+    prefetch_face(face_of(g));
   }
 }
 

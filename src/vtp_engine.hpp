@@ -126,6 +126,7 @@ class VtpEngine {
   void drain_in_rounds();
   void cross(std::uint32_t h);
   void prefetch_faces_of(std::uint32_t v) const;
+  void prefetch_face(std::uint32_t f) const;
   void prefetch_crossing(std::uint32_t h) const;
   void prefetch_destinations(std::uint32_t h) const;
   std::span<const Window> list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats);

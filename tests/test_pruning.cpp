@@ -144,7 +144,6 @@ TEST(Pruning, TwoUnfoldingsOfOneSourceMeetAtTheirBisector) {
   }
 }
 
-
 // Soundness on seeded random pairs of unrelated windows (different pseudo-sources and distances)
 // overlapping on [1, 2], given in either order: wherever the originals reach inside the overlap, the windows
 // kept reach too, at most as far as the nearer original, and each kept window is a part of its original.
