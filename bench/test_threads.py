@@ -7,7 +7,7 @@ def mesh_record(name, baseline, one, two):
     def result(seconds, propagations, rss):
         return {"propagation_seconds": seconds, "propagation_seconds_min": seconds, "peak_rss_bytes": rss,
                 "window_propagations": propagations, "vertex_pops": 1000, "parallel_bands": 10,
-                "parallel_rounds": 50, "parallel_round_lists": 5000}
+                "parallel_critical_path": 50, "parallel_crossings": 5000}
 
     return {
         "name": name, "faces": 2000, "vertices": 1000,
@@ -49,6 +49,16 @@ def test_the_prediction_divides_only_the_shared_phases():
     predicted = prediction(mesh_record("m", 2.0, 1.0, 0.5))
     assert abs(predicted[8] - (0.2 + 0.8 / 8)) < 1e-12
     assert abs(predicted[16] - (0.2 + 0.8 / 16)) < 1e-12
+
+
+def test_the_prediction_stops_at_the_critical_path():
+    # 5000 crossings, 500 of them in a row: on 16 threads the shared 0.8 s of work cannot take less than a
+    # tenth of it.
+    record = mesh_record("m", 2.0, 1.0, 0.5)
+    record["results"]["2-threads"]["parallel_critical_path"] = 500
+    predicted = prediction(record)
+    assert abs(predicted[8] - (0.2 + 0.8 / 8)) < 1e-12
+    assert abs(predicted[16] - (0.2 + 0.8 / 10)) < 1e-12
 
 
 def test_a_run_without_baseline_or_heat_leaves_those_cells_empty(tmp_path):

@@ -71,8 +71,8 @@ def measure_configurations(configurations: dict[str, tuple[str, list[str]]], mes
             "window_propagations": last["window_propagations"],
             "vertex_pops": last["vertex_pops"],
             "parallel_bands": last.get("parallel_bands", 0),
-            "parallel_rounds": last.get("parallel_rounds", 0),
-            "parallel_round_lists": last.get("parallel_round_lists", 0),
+            "parallel_critical_path": last.get("parallel_critical_path", 0),
+            "parallel_crossings": last.get("parallel_crossings", 0),
         }
     return results
 

@@ -243,7 +243,7 @@ void add_threads_option(CLI::App& command, std::optional<unsigned>& threads) {
   command
       .add_option("--threads", threads,
                   "Threads sharing the propagation (0: one per core; default: one per 10,000 faces, up to one per "
-                  "core). The distances are the same for every count above 1, and agree with one thread's to 1e-14")
+                  "core). The distances agree with one thread's to 1e-14 of the largest")
       ->check(count_check())
       ->type_name("N");
 }

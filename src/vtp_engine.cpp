@@ -10,6 +10,7 @@
 #include "assert.hpp"
 #include "cache_hint.hpp"
 #include "phase_timer.hpp"
+#include "spin_lock.hpp"
 #include "stop.hpp"
 #include "tolerances.hpp"
 
@@ -162,9 +163,9 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
 }
 
 // Vertex-sorted (VTP, OPVTP): each iteration pops the nearest wavefront vertex and adds all its faces.
-// Flattened: the steps the one-thread loop shares with the parallel rounds (move_inside, cross_list,
+// Flattened: the steps the one-thread loop shares with the parallel bands (move_inside, cross_list,
 // hand_over, join, ...) are functions of their own, and their calls cost the one-thread run 2-5% of its time
-// (measured against the engine before it had rounds); inlined here, it is level with that engine again.
+// (measured against the engine before it had parallel rounds); inlined here, it is level with that engine again.
 [[gnu::flatten]] void VtpEngine::run_vertex_sorted() {
   while (!vertex_queue_.empty()) {
     update_cutoff();
@@ -324,6 +325,16 @@ void VtpEngine::push_vertex(std::uint32_t v, double d) {
   vertex_queue_.push_or_decrease(v, d);
 }
 
+// v's distance as it stands, while other threads may be lowering it (under v's lock).
+double VtpEngine::distance_now(std::uint32_t v) const {
+  return std::atomic_ref<double>(const_cast<double&>(distance_[v])).load(std::memory_order_relaxed);
+}
+
+// Whether f is in the traversed area, while other threads may be adding faces to it.
+bool VtpEngine::face_inside(std::uint32_t f) const {
+  return std::atomic_ref<std::uint32_t>(const_cast<std::uint32_t&>(face_visited_at_[f])).load(std::memory_order_relaxed) != kNone;
+}
+
 // A path of length d reaches v, arriving as `arrival` says.
 void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
   EXACTGEO_ASSERT(d >= 0);  // and not NaN
@@ -392,16 +403,35 @@ void VtpEngine::emit(std::uint32_t v) {
   emitted_at_[v] = distance_[v];
   ++stats_.pseudo_source_emissions;
   for_each_emission_part(
-      v, [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
+      v, distance_[v], arrival_[v], [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
       [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
 }
 
-// The parts of v's emission at its present distance, in order: offer(u, distance, arrival) for each
-// neighbour u, place(g, window) for each window. Reads only the mesh and v's distance and arrival.
+// emit, with other threads running (the parallel bands, vtp_bands.cpp): v's distance and arrival are read
+// under its lock, the distances it offers and the windows it places go in under theirs.
+void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
+  double d;
+  Arrival arrival;
+  {
+    const SpinGuard guard(vertex_locks_[v]);
+    emit_scheduled_[v] = 0;
+    d = distance_[v];
+    arrival = arrival_[v];
+    if (!(d < emitted_at_[v] - tolerances_.prune && d <= cutoff_)) return;
+    emitted_at_[v] = d;
+  }
+  ++scratch_[thread].stats.pseudo_source_emissions;
+  for_each_emission_part(
+      v, d, arrival, [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
+      [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });
+}
+
+// The parts of v's emission at distance d, reached as `arrival` says, in order: offer(u, distance, arrival)
+// for each neighbour u, place(g, window) for each window. Reads only the mesh.
 template <class Offer, class Place>
-void VtpEngine::for_each_emission_part(std::uint32_t v, Offer&& offer, Place&& place) const {
-  const double d = distance_[v];
-  const ShadowCone cone = shadow_cone(mesh_, v, arrival_[v]);
+void VtpEngine::for_each_emission_part(std::uint32_t v, double d, const Arrival& arrival, Offer&& offer,
+                                       Place&& place) const {
+  const ShadowCone cone = shadow_cone(mesh_, v, arrival);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t c = mesh_.vertex_corners[i];  // halfedge leaving v
     const std::uint32_t opposite = next_halfedge(c), back = prev_halfedge(c);
@@ -414,26 +444,6 @@ void VtpEngine::for_each_emission_part(std::uint32_t v, Offer&& offer, Place&& p
     if (!(b1 - b0 > tolerances_.min_width)) continue;
     place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh_.tail(g) != mesh_.tail(opposite)));
   }
-}
-
-// The parallel bands' emission in two steps: collected on any thread (appended to `out`), applied in
-// order on one. Together they do what emit does, with v's distance when collected.
-void VtpEngine::collect_emission(std::uint32_t v, Emission& out) const {
-  // Distances only fall: an offer that does not lower its vertex's distance now never will.
-  for_each_emission_part(
-      v,
-      [&](std::uint32_t u, double d, const Arrival& arrival) {
-        if (d < distance_[u]) out.offers.push_back({u, d, arrival});
-      },
-      [&](std::uint32_t g, const Window& w) { out.windows.push_back({g, w}); });
-}
-
-void VtpEngine::apply_emission(std::uint32_t v, double at, std::span<const EmissionOffer> offers,
-                               std::span<const EmittedWindow> windows) {
-  emitted_at_[v] = at;
-  ++stats_.pseudo_source_emissions;
-  for (const EmissionOffer& offer : offers) relax(offer.vertex, offer.distance, offer.arrival);
-  for (const EmittedWindow& emitted : windows) place_new_window(emitted.edge, emitted.window);
 }
 
 void VtpEngine::drain() {
@@ -546,7 +556,7 @@ std::span<const Window> VtpEngine::list_to_cross(std::uint32_t h, unsigned threa
 // Crosses `incoming`, the list entering face(h), into to_ac and to_bc (splits: scratch space) and returns the
 // window propagations; `reach` and `at_apex` say how the list reaches the opposite corner C. The corners'
 // distances are read as they stand, C's as it is once the list has offered its own there. Changes nothing
-// of the engine's, so the parallel rounds call it from several threads at once.
+// of the engine's, so the parallel bands call it from several threads at once.
 std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
                                     std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
                                     Arrival& at_apex) const {
@@ -555,8 +565,8 @@ std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> inc
   EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
   const Window& best = incoming[reach.window];
   at_apex = Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py};
-  const CornerDistances corners = {distance_[mesh_.tail(h)], distance_[mesh_.head(h)],
-                                   std::min(distance_[mesh_.apex(h)], reach.distance)};
+  const CornerDistances corners = {distance_now(mesh_.tail(h)), distance_now(mesh_.head(h)),
+                                   std::min(distance_now(mesh_.apex(h)), reach.distance)};
   return cross_face(incoming, splits, frame, reach, options_.rule1, corners,
                     exit_through(prev_halfedge(h), mesh_.tail(h)), exit_through(next_halfedge(h), mesh_.head(h)),
                     tolerances_, to_ac, to_bc);
@@ -596,7 +606,7 @@ VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> w
   auto kept = windows.end();
   if (cutoff_ < HUGE_VAL) kept = std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w); });
   Joining joining;
-  if (face_visited_at_[face_of(g)] != kNone)
+  if (face_inside(face_of(g)))
     joining = Joining::inside;
   else if (prime && options_.rule23)
     joining = Joining::prime_merge;
@@ -684,10 +694,11 @@ void VtpEngine::evaluate_targets_from_corners(std::uint32_t f) {
     const std::uint32_t t = face_targets_[i];
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
       const std::uint32_t corner = mesh_.apex(h);
-      if (distance_[corner] == HUGE_VAL) continue;
+      const double at_corner = distance_now(corner);
+      if (at_corner == HUGE_VAL) continue;
       const HalfedgeGeometry& g = mesh_.halfedges[h];
       const auto [qx, qy] = position_in_frame(mesh_, targets_[t], h);
-      offer_to_target(t, distance_[corner] + length(qx - g.apex_x, qy - g.apex_y),
+      offer_to_target(t, at_corner + length(qx - g.apex_x, qy - g.apex_y),
                       Arrival{corner, h, std::nan(""), g.apex_x, g.apex_y});
     }
   }

@@ -15,10 +15,12 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -98,32 +100,10 @@ class VtpEngine {
   void schedule(std::uint32_t h);
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
   void emit(std::uint32_t v);
-  // A pseudo-source's emission: the distances it offers its neighbours and the windows it places.
-  struct EmissionOffer {
-    std::uint32_t vertex;
-    double distance;
-    Arrival arrival;
-  };
-  struct EmittedWindow {
-    std::uint32_t edge;
-    Window window;
-  };
-  struct Emission {
-    std::vector<EmissionOffer> offers;
-    std::vector<EmittedWindow> windows;
-    void clear() {
-      offers.clear();
-      windows.clear();
-    }
-  };
   template <class Offer, class Place>
-  void for_each_emission_part(std::uint32_t v, Offer&& offer, Place&& place) const;
-  void collect_emission(std::uint32_t v, Emission& out) const;
-  void apply_emission(std::uint32_t v, double at, std::span<const EmissionOffer> offers,
-                      std::span<const EmittedWindow> windows);
+  void for_each_emission_part(std::uint32_t v, double d, const Arrival& arrival, Offer&& offer, Place&& place) const;
   void emit_lowered_pseudo_source();
   void drain();
-  void drain_in_rounds();
   void cross(std::uint32_t h);
   void prefetch_faces_of(std::uint32_t v) const;
   void prefetch_face(std::uint32_t f) const;
@@ -175,65 +155,70 @@ class VtpEngine {
   WavefrontQueue face_queue_;                  // face-sorted variants
   std::vector<std::uint32_t> faces_to_join_;   // face-sorted: per surface vertex, its faces not yet joined
   // Lists scheduled to cross, first in first out: those before pending_front_ have crossed. Emptied whenever
-  // every one has, so it holds what one vertex (or one round) sets moving.
+  // every one has, so it holds what one vertex sets moving.
   std::vector<std::uint32_t> pending_;
   std::size_t pending_front_ = 0;
   std::vector<std::uint32_t> emit_queue_;
   std::vector<Window> to_ac_, to_bc_;
   std::vector<double> splits_, key_splits_;
 
-  // Parallel propagation (options_.threads > 1, vertex-sorted): each round crosses every scheduled list at
-  // once, then joins the crossed windows to the lists they reach, each list by one thread. Which thread does
-  // what changes nothing: a round's lists, their order and everything they read are fixed before it starts.
-  // What a list's crossing leaves for its joins (read by the threads).
-  struct RoundCrossing {
-    std::uint32_t thread;  // whose buffers hold the crossed windows
-    bool prime;            // the list crosses a face new in this iteration
-    std::array<std::uint32_t, 2> begin;  // to AC and to BC, in the thread's buffers
-    std::array<Handover, 2> handover;
+  // Parallel propagation (options_.threads > 1, vertex-sorted; vtp_bands.cpp): the wavefront advances by
+  // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
+  // lists that sets moving, each list and each vertex changed under its own lock.
+  struct HalfedgeLock {  // per halfedge, guarding its list and these fields
+    std::atomic<std::uint8_t> lock{0};
+    std::uint8_t scheduled = 0;  // in a thread's queue
+    std::uint16_t depth = 0;     // the longest chain of crossings of the band that reached the list so far
   };
-  // What the sequential steps between the phases read, kept apart and small: they read it for every list of
-  // every round, after other threads wrote it.
-  enum RoundFlag : std::uint8_t {
-    kCrossed = 1,         // the list had windows
-    kLowersApex = 2,      // its distance to the opposite corner is below that corner's at the round's start
-    kScheduleToAC = 4,    // the edge its windows reached on that side now has a list inside the traversed
-    kScheduleToBC = 8,    //   area, joined by this crossing's task
-  };
-  struct ApexOffer {
-    double distance;
-    Arrival arrival;  // how the list's best path reaches the opposite corner
-  };
-  struct RoundDelivery {
-    std::uint32_t crossing, side;  // side 0: to AC, 1: to BC
+  // The lists a thread scheduled, crossed first in first out by that thread alone. A thread that runs out
+  // says it is hungry; the next thread to notice hands it half of its own lists through its inbox.
+  struct alignas(64) CrossingQueue {
+    std::vector<std::uint32_t> items;
+    std::size_t front = 0;
+    std::atomic<bool> hungry{false};
+    std::atomic<bool> fed{false};  // the inbox holds lists
+    std::atomic<bool> share_taken{false};  // the band's share of vertices of the same number as the thread
+    std::atomic<std::uint8_t> inbox_lock{0};
+    std::vector<std::uint32_t> inbox;
   };
   struct alignas(64) ThreadScratch {  // a cache line of its own: each thread writes its own often
     std::vector<double> splits;
     std::array<std::vector<Window>, 2> crossed;
-    Emission emitted;  // the band's emissions this thread collected
-    GeodesicStats stats;  // its propagations, merges and pruning time
+    std::vector<std::uint32_t> reached;  // vertices it queued: pushed into the vertex queue after the band
+    std::vector<std::uint32_t> to_emit;  // pseudo-sources inside that it lowered: they emit again
+    std::uint16_t depth = 0;             // of the crossing under way (0: enclosing a vertex)
+    std::uint16_t deepest = 0;           // of the band's crossings so far
+    bool targets_changed = false;
+    GeodesicStats stats;  // its propagations, merges, emissions, crossings and pruning time
   };
-  double band_width_ = 0;  // engine lengths: the wavefront advances by about one edge per band
+  double band_width_ = 0;  // engine lengths: the wavefront advances by about half an edge per band
   std::unique_ptr<WorkerPool> pool_;
   std::vector<ThreadScratch> scratch_;
-  std::vector<std::uint32_t> round_;
-  // The vertices a band moves inside, in order, and where the emission each collected lies (if it emits).
-  struct BandEmission {
-    bool emits;
-    std::uint32_t thread;
-    double at;  // the distance it was collected with
-    std::uint32_t offers_begin, offers_end, windows_begin, windows_end;
-  };
-  std::vector<std::uint32_t> band_;
-  std::vector<BandEmission> band_emissions_;
-  void enclose_band();
-  void collect_in_band(std::size_t i, unsigned thread);
-  std::vector<RoundCrossing> crossings_;
-  std::vector<std::uint8_t> round_flags_;   // per list of the round: RoundFlag bits
-  std::vector<ApexOffer> apex_offers_;      // per list of the round: set where kLowersApex
-  std::vector<std::uint32_t> round_slot_;  // per halfedge: its list's index in round_ this round, or kNone
-  void cross_in_round(std::size_t i, unsigned thread);
-  void join_in_round(std::size_t i, unsigned thread);
+  std::vector<std::uint32_t> band_;  // the vertices a band moves inside
+  std::unique_ptr<HalfedgeLock[]> list_locks_;
+  std::unique_ptr<std::atomic<std::uint8_t>[]> vertex_locks_;
+  std::unique_ptr<CrossingQueue[]> crossing_queues_;
+  // Who works on the band: the threads that joined it (high half), those of them hungry (low half), and
+  // kBandOver once every one that joined is hungry. A thread the system runs late finds the band over.
+  std::atomic<std::uint64_t> band_state_{0};
+  std::atomic<bool> aborted_{false};    // a thread threw: the others stop
+  int hungry_spins_ = 0;                // how long a hungry thread spins before it yields the core
+  std::mutex targets_mutex_;
+  void propagate_band();
+  void propagate_band_on(unsigned thread);
+  bool join_band();
+  bool band_over_or_fed(const CrossingQueue& queue);
+  void feed_hungry(unsigned thread);
+  void enclose_concurrently(std::uint32_t v, unsigned thread);
+  void cross_concurrently(std::uint32_t h, unsigned thread);
+  void relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread);
+  void emit_concurrently(std::uint32_t v, unsigned thread);
+  void place_concurrently(std::uint32_t g, const Window& w, unsigned thread);
+  void deliver_concurrently(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime,
+                            unsigned thread);
+  void schedule_locked(std::uint32_t h, unsigned thread);
+  double distance_now(std::uint32_t v) const;
+  bool face_inside(std::uint32_t f) const;
 
   // Targets: points inside faces or on edges are listed per face; points at vertices read the vertex.
   std::vector<LocatedPoint> targets_;

@@ -29,8 +29,8 @@ struct Window {
 // list is read as one run of memory rather than by chasing links.
 //
 // Every change takes the number of the thread making it: each thread allocates from its own chunks and keeps
-// the blocks it frees, so the parallel rounds can move lists concurrently, each thread changing only lists
-// no other thread touches meanwhile. A block may be freed by another thread than the one that carved it; it
+// the blocks it frees, so the parallel bands can move lists concurrently, each thread changing only lists
+// whose locks it holds (vtp_bands.cpp). A block may be freed by another thread than the one that carved it; it
 // then serves that thread's next allocations.
 class WindowLists {
  public:
@@ -50,6 +50,24 @@ class WindowLists {
   // Cache hints ahead of work on h's list: its record, or its windows (reading the record).
   void prefetch_record(std::uint32_t h) const { prefetch(&lists_[h]); }
   void prefetch_windows(std::uint32_t h) const { prefetch(lists_[h].data); }
+
+  // Takes h's list away, leaving h empty, for work on it while other windows join h (several threads);
+  // give_back returns its block once done.
+  struct Taken {
+    Window* data = nullptr;
+    std::uint32_t size = 0, capacity = 0;
+  };
+  Taken take(std::uint32_t h) {
+    const List list = lists_[h];
+    lists_[h] = List{};
+    return {list.data, list.size, list.capacity};
+  }
+  void give_back(const Taken& taken, unsigned thread) {
+    Allocator& a = allocators_[thread];
+    a.live -= taken.size;
+    List list{taken.data, taken.size, taken.capacity};
+    release(list, a);
+  }
 
   // Empties h's list, giving its block back for reuse.
   void clear(std::uint32_t h, unsigned thread) {

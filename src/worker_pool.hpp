@@ -1,12 +1,10 @@
 // A small fork-join team of threads for the parallel single-source propagation: the engine hands it a batch
-// of independent items thousands of times per run, each batch some microseconds of work, so the workers
-// spin briefly between batches before they sleep (a wake-up from sleep takes longer than a batch). The
-// caller works on the batch too and waits only for items other threads have taken: a worker the system
-// does not schedule in time just misses the batch instead of holding it up.
+// hundreds of times per run (one item per thread for each band of the wavefront, some hundred microseconds
+// of work), so the workers spin briefly between batches before they sleep (a wake-up from sleep takes about
+// as long as a batch). The caller works on the batch too and waits only for items other threads have taken.
 //
 // Each thread has a home share of every batch, the same contiguous part of the items each time, and takes
-// items from other shares only once its own is done. The engine's consecutive batches touch the same data
-// in nearly the same order, so a thread mostly finds in its own cache what it wrote in the batch before.
+// items from other shares only once its own is done: with one item per thread, each thread runs its own.
 #pragma once
 
 #include <algorithm>
@@ -56,8 +54,8 @@ class WorkerPool {
     std::atomic<std::size_t> end{0};
   };
 
-  std::vector<std::jthread> workers_;
   std::vector<Share> shares_;
+  std::chrono::microseconds spin_time_;  // how long a worker spins for the next batch before it sleeps
   std::atomic<std::uint32_t> batch_{0};  // the batch on (0: none yet)
   std::atomic<const std::function<void(std::size_t, unsigned)>*> task_{nullptr};
   std::atomic<std::size_t> done_{0};
@@ -66,6 +64,7 @@ class WorkerPool {
   std::mutex mutex_;  // for sleeping workers, and the first failure
   std::condition_variable wake_;
   std::exception_ptr failure_;
+  std::vector<std::jthread> workers_;  // last: they start once everything they read is set
 };
 
 // ------------------------------------------------------------------------------------------------------
@@ -92,7 +91,12 @@ inline constexpr std::uint64_t kClosed = 0xffffffffu;
 }  // namespace worker_pool_detail
 
 
-inline WorkerPool::WorkerPool(unsigned threads) : shares_(threads) {
+// With more threads than cores, a spinning worker holds a core that the caller or another worker could use:
+// it sleeps at once.
+inline WorkerPool::WorkerPool(unsigned threads)
+    : shares_(threads),
+      spin_time_(threads > std::thread::hardware_concurrency() ? std::chrono::microseconds(0)
+                                                               : worker_pool_detail::kSpinTime) {
   for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
 }
 
@@ -180,7 +184,7 @@ inline void WorkerPool::run(std::size_t count, const std::function<void(std::siz
 inline void WorkerPool::work(unsigned thread) {
   std::uint32_t seen = 0;  // batch 0 is none; the first batch may have started before this thread did
   while (true) {
-    const auto spin_until = std::chrono::steady_clock::now() + worker_pool_detail::kSpinTime;
+    const auto spin_until = std::chrono::steady_clock::now() + spin_time_;
     for (int spins = 0; batch_.load(std::memory_order_acquire) == seen; ++spins) {
       if ((spins & 63) != 63 || std::chrono::steady_clock::now() < spin_until) {
         worker_pool_detail::pause_briefly();

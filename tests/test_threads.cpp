@@ -1,7 +1,8 @@
 // One run on several threads (GeodesicOptions::threads): on generated meshes of many shapes, every feature
-// gives the same answer, bit for bit, with 2, 3 and 8 threads, and agrees with the sequential engine (one
-// thread) to 1e-14 of the largest distance with the same vertices reachable. The oracle tests check the
-// threaded runs against CGAL on the shared meshes.
+// gives, with 2, 3 and 8 threads, the answer of the sequential engine (one thread) to 1e-14 of the largest
+// distance, with the same vertices reachable and the same nearest sources. (Which thread crosses what, and
+// when, may change the last bits between runs.) The oracle tests check the threaded runs against CGAL on
+// the shared meshes.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -44,25 +45,34 @@ GeodesicOptions with_threads(GeodesicOptions options, unsigned threads) {
   return options;
 }
 
-// Threaded results equal each other exactly and the sequential one to kAgreement, reachability included.
+// Each threaded result agrees with the sequential one to kAgreement, reachability included, and names the
+// same nearest source for every vertex but those that two sources reach at distances within kAgreement of
+// each other: there the tie goes to whichever path arrives first. `per_source` holds each labelled source's
+// own distances (needed only with several sources).
 void expect_same_for_every_thread_count(const std::string& what,
                                         const std::function<GeodesicResult(const GeodesicOptions&)>& run,
-                                        const GeodesicOptions& options = {}) {
+                                        const GeodesicOptions& options = {},
+                                        const std::vector<std::vector<double>>& per_source = {}) {
   const GeodesicResult sequential = run(with_threads(options, 1));
-  const GeodesicResult first = run(with_threads(options, kThreadCounts[0]));
-  EXPECT_TRUE(exactgeo_test::distances_match(first.distances, sequential.distances, kAgreement)) << what;
-  EXPECT_TRUE(exactgeo_test::distances_match(first.target_distances, sequential.target_distances, kAgreement)) << what;
-  EXPECT_EQ(first.nearest_source, sequential.nearest_source) << what;
+  const double largest = exactgeo_test::max_finite(sequential.distances);
   for (unsigned threads : kThreadCounts) {
-    const GeodesicResult again = run(with_threads(options, threads));
-    EXPECT_EQ(again.distances, first.distances) << what << ", " << threads << " threads";
-    EXPECT_EQ(again.target_distances, first.target_distances) << what << ", " << threads << " threads";
-    EXPECT_EQ(again.nearest_source, first.nearest_source) << what << ", " << threads << " threads";
-    EXPECT_EQ(again.stats.window_propagations, first.stats.window_propagations) << what << ", " << threads << " threads";
+    const GeodesicResult result = run(with_threads(options, threads));
+    const std::string where = what + ", " + std::to_string(threads) + " threads";
+    EXPECT_TRUE(exactgeo_test::distances_match(result.distances, sequential.distances, kAgreement)) << where;
+    EXPECT_TRUE(exactgeo_test::distances_match(result.target_distances, sequential.target_distances, kAgreement)) << where;
+    ASSERT_EQ(result.nearest_source.size(), sequential.nearest_source.size()) << where;
+    for (std::size_t v = 0; v < result.nearest_source.size(); ++v) {
+      const std::uint32_t label = result.nearest_source[v], expected = sequential.nearest_source[v];
+      if (label == expected) continue;
+      ASSERT_TRUE(label < per_source.size() && expected < per_source.size())
+          << where << ", vertex " << v << ": nearest source " << label << " instead of " << expected;
+      EXPECT_LE(std::abs(per_source[label][v] - per_source[expected][v]), kAgreement * largest)
+          << where << ", vertex " << v << ": nearest source " << label << " instead of " << expected << ", not a tie";
+    }
   }
 }
 
-TEST(Threads, EveryVariantGivesTheSameDistancesOnEveryThreadCount) {
+TEST(Threads, EveryVariantGivesTheSequentialDistancesOnEveryThreadCount) {
   for (const auto& entry : generated_meshes()) {
     const std::string& name = entry.first;  // not a structured binding: lambdas capture these on every compiler
     const Mesh& mesh = entry.second;
@@ -79,14 +89,19 @@ TEST(Threads, SeveralSourcesLabelsAndPointSources) {
     const Mesh& mesh = entry.second;
     const auto n = static_cast<std::uint32_t>(mesh.vertex_count());
     const std::vector<std::uint32_t> vertices = {0, n / 2, n - 1};
+    std::vector<std::vector<double>> from_each_vertex;
+    for (const std::uint32_t v : vertices) from_each_vertex.push_back(exactgeo::geodesic_distance(mesh, v).distances);
     expect_same_for_every_thread_count(name + ", three source vertices", [&](const GeodesicOptions& o) {
       return exactgeo::geodesic_distance(mesh, vertices, o);
-    });
+    }, {}, from_each_vertex);
     const std::vector<exactgeo::SurfacePoint> points = {{.face = 0, .barycentric = {0.2, 0.3, 0.5}},
                                                         {.face = static_cast<std::uint32_t>(mesh.face_count() / 3), .barycentric = {0.5, 0.5, 0}}};
+    std::vector<std::vector<double>> from_each_point;
+    for (const exactgeo::SurfacePoint& p : points)
+      from_each_point.push_back(exactgeo::geodesic_distance(mesh, std::span(&p, 1)).distances);
     expect_same_for_every_thread_count(name + ", a face point and an edge point", [&](const GeodesicOptions& o) {
       return exactgeo::geodesic_distance(mesh, points, o);
-    });
+    }, {}, from_each_point);
   }
 }
 
@@ -143,8 +158,8 @@ TEST(Threads, ProgressIsReportedAndAStopEndsTheRun) {
     EXPECT_EQ(e.code(), exactgeo::ErrorCode::cancelled) << e.what();
   }
   // The solver, and its threads, stay usable.
-  EXPECT_EQ(solver.solve(std::span(&source, 1), {}, {.threads = 2}).distances,
-            exactgeo::geodesic_distance(mesh, 0, {.threads = 3}).distances);
+  EXPECT_TRUE(exactgeo_test::distances_match(solver.solve(std::span(&source, 1), {}, {.threads = 2}).distances,
+                                             exactgeo::geodesic_distance(mesh, 0).distances, kAgreement));
 }
 
 TEST(Threads, DistanceMatricesSpreadSourcesAndRunEachOnOneThread) {
@@ -157,8 +172,9 @@ TEST(Threads, DistanceMatricesSpreadSourcesAndRunEachOnOneThread) {
 TEST(Threads, ZeroMeansOnePerCoreAndAbsurdCountsAreRefused) {
   const Mesh mesh(exactgeo::make_bumpy_torus(32, 16));
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  EXPECT_EQ(exactgeo::geodesic_distance(mesh, 0, {.threads = 0}).distances,
-            exactgeo::geodesic_distance(mesh, 0, {.threads = cores}).distances);
+  const GeodesicResult all_cores = exactgeo::geodesic_distance(mesh, 0, {.threads = 0});
+  EXPECT_TRUE(exactgeo_test::distances_match(all_cores.distances, exactgeo::geodesic_distance(mesh, 0).distances, kAgreement));
+  EXPECT_EQ(all_cores.stats.parallel_bands > 0, cores > 1);
   try {
     exactgeo::geodesic_distance(mesh, 0, {.threads = 100000});
     ADD_FAILURE() << "100000 threads were accepted";

@@ -22,11 +22,14 @@ def seconds(value: float | None) -> str:
 
 def prediction(mesh: dict) -> dict[int, float]:
     """Predicted propagation time on p threads, from the 2-thread run: what stays on one thread, plus the
-    phases the threads share (their wall time there times 2: the work of both) divided by p."""
+    part the threads share (its wall time times 2: the work of both) divided by p, but never below the
+    critical path's share of that work (its crossings in a row, at the mean cost of a crossing)."""
     two = mesh["phases"]["2"]
+    counts = mesh["results"]["2-threads"]
     alone = two["propagation_seconds"] - two["parallel_seconds"]
     shared = 2 * two["parallel_seconds"]
-    return {p: alone + shared / p for p in kPredictedThreads}
+    chain = shared * counts["parallel_critical_path"] / max(1, counts["parallel_crossings"])
+    return {p: alone + max(shared / p, chain) for p in kPredictedThreads}
 
 
 def write_markdown(path: Path, report: dict) -> str:
@@ -90,15 +93,14 @@ def write_markdown(path: Path, report: dict) -> str:
                              "heat error, mean"], rows, "lrrrrrrrr")
 
     lines += ["", "## Available parallelism", "",
-              "The parallel engine advances the wavefront by bands of about one edge length; each band's lists "
-              "cross in rounds, one after the other, the lists of a round shared by the threads. Rounds are the "
-              "critical path; lists per round the width. The prediction takes the 2-thread run apart "
-              "(--timers): what stays on one thread (popping a band's vertices, applying its emissions in order, "
-              "relaxing corners and scheduling lists between the phases) stays; the phases the threads share "
-              "(crossing, joining, collecting emissions while one task enters the band's faces: twice their wall "
-              "time is the work of both threads) are divided by the thread count. It assumes that work keeps "
-              "scaling (entering the faces, one task, does not) and the synchronisation stays cheap, so it is an "
-              "upper bound on the gain.", ""]
+              "The parallel engine advances the wavefront by bands of about half an edge length; the threads "
+              "share each band's vertices and the list crossings they set off, a crossing often waiting for "
+              "another that reaches its list. The critical path is the longest such chain in each band, summed "
+              "over the bands; crossings per step of it are the width. The prediction takes the 2-thread run "
+              "apart (--timers): what stays on one thread (popping a band's vertices, queueing the vertices it "
+              "reached) stays; the shared part (twice its wall time is the work of both threads) is divided by "
+              "the thread count. It assumes the threads keep as busy and the locks stay as cheap with more "
+              "threads, and no band waits longer than its critical path, so it is an upper bound on the gain.", ""]
     rows = []
     for mesh in report["meshes"]:
         two = mesh["results"]["2-threads"]
@@ -106,10 +108,11 @@ def write_markdown(path: Path, report: dict) -> str:
         predicted = prediction(mesh)
         phases_two = mesh["phases"]["2"]
         rows.append([mesh["name"], f"{two['vertex_pops'] / max(1, two['parallel_bands']):.0f}",
-                     f"{two['parallel_rounds']:,}", f"{two['parallel_round_lists'] / max(1, two['parallel_rounds']):.0f}",
+                     f"{two['parallel_critical_path']:,}",
+                     f"{two['parallel_crossings'] / max(1, two['parallel_critical_path']):.0f}",
                      f"{1 - phases_two['parallel_seconds'] / phases_two['propagation_seconds']:.0%}",
                      *(f"{one['propagation_seconds'] / predicted[p]:.1f}x" for p in kPredictedThreads)])
-    lines += markdown_table(["mesh", "vertices per band", "rounds", "lists per round",
+    lines += markdown_table(["mesh", "vertices per band", "critical path (crossings)", "crossings per step",
                              "share on one thread (2 threads)",
                              *(f"predicted {p} threads vs 1" for p in kPredictedThreads)], rows, "lrrrrrr")
     lines.append("")

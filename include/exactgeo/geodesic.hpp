@@ -79,9 +79,9 @@ constexpr void for_each_option_field(Visit&& visit) {
         "down by up to 60%");
   visit("threads", &O::threads,
         "threads sharing one run: 1 runs the sequential engine; 0 takes one per core; from 2 on the wavefront "
-        "advances in distance bands whose lists are crossed and merged in parallel, with the same distances, "
-        "bit for bit, for every thread count (within 1e-14 of the sequential ones); face-sorted variants run "
-        "on one thread");
+        "advances in distance bands whose vertices and lists the threads share, with the distances of one "
+        "thread to within 1e-14 of the largest (the last bits may change from run to run); face-sorted "
+        "variants run on one thread");
 }
 
 // What a run did: the counts as the paper defines them (Section 6.2) and the time. A propagation is prime if
@@ -101,8 +101,8 @@ struct GeodesicStats {
   std::uint64_t face_pops = 0;
   std::uint64_t pseudo_source_emissions = 0;
   std::uint64_t parallel_bands = 0;
-  std::uint64_t parallel_rounds = 0;
-  std::uint64_t parallel_round_lists = 0;
+  std::uint64_t parallel_critical_path = 0;
+  std::uint64_t parallel_crossings = 0;
   double propagation_seconds = 0.0;
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
@@ -137,18 +137,19 @@ constexpr void for_each_stats_field(Visit&& visit) {
   visit("pseudo_source_emissions", &S::pseudo_source_emissions, count, "saddle or boundary vertices that (re-)emitted windows");
   visit("parallel_bands", &S::parallel_bands, count,
         "threads > 1: distance bands the wavefront advanced by (vertex_pops / parallel_bands per band)");
-  visit("parallel_rounds", &S::parallel_rounds, count,
-        "threads > 1: rounds of list crossings, one after the other (the critical path)");
-  visit("parallel_round_lists", &S::parallel_round_lists, count,
-        "threads > 1: lists crossed in those rounds (per round: the work its threads share)");
+  visit("parallel_critical_path", &S::parallel_critical_path, count,
+        "threads > 1: the longest chain of list crossings in each band, each waiting for the one before, summed "
+        "over the bands (the steps no thread count can shorten)");
+  visit("parallel_crossings", &S::parallel_crossings, count,
+        "threads > 1: list crossings (parallel_crossings / parallel_critical_path: the work a step can share)");
   visit("propagation_seconds", &S::propagation_seconds, seconds, "wall time of the propagation");
   visit("window_propagation_seconds", &S::window_propagation_seconds, phase,
         "crossing window lists over triangles (0 unless collect_timings)");
   visit("pruning_seconds", &S::pruning_seconds, phase, "pairwise pruning, Rules 2 and 3 (0 unless collect_timings)");
   visit("queue_seconds", &S::queue_seconds, phase, "the wavefront priority queue (0 unless collect_timings)");
   visit("parallel_seconds", &S::parallel_seconds, phase,
-        "threads > 1: the phases all threads share (crossing, joining, emissions; 0 unless collect_timings); the rest "
-        "of propagation_seconds runs on one thread");
+        "threads > 1: the part all threads share (each band's emissions, faces and crossings; 0 unless "
+        "collect_timings); the rest of propagation_seconds runs on one thread");
 }
 
 inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();

@@ -346,6 +346,13 @@ std::string variant_name(const testing::TestParamInfo<exactgeo::GeodesicOptions>
          (info.param.threads > 1 ? "_Threads" + std::to_string(info.param.threads) : "");
 }
 
+testing::AssertionResult same_run_distances(std::span<const double> actual, std::span<const double> expected,
+                                            const exactgeo::GeodesicOptions& options) {
+  if (options.threads > 1) return distances_match(actual, expected, 1e-14);
+  if (std::equal(actual.begin(), actual.end(), expected.begin(), expected.end())) return testing::AssertionSuccess();
+  return distances_match(actual, expected, 0) << " (one thread: expected bit for bit)";
+}
+
 }  // namespace exactgeo_test
 
 void exactgeo::PrintTo(const GeodesicOptions& options, std::ostream* out) { *out << exactgeo_test::variant_label(options); }

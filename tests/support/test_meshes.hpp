@@ -134,6 +134,12 @@ double max_finite(std::span<const double> values);
 testing::AssertionResult distances_match(std::span<const double> actual, std::span<const double> expected,
                                          double relative_tolerance, double* max_relative_error = nullptr);
 
+// Two runs of the same surface from the same sources under `options`: the same distances bit for bit on one
+// thread; on several, to 1e-14 of the largest (which thread crosses what, and when, may change the last
+// bits).
+testing::AssertionResult same_run_distances(std::span<const double> actual, std::span<const double> expected,
+                                            const exactgeo::GeodesicOptions& options);
+
 // ---- Engine options ------------------------------------------------------------------------------------
 
 // Every variant of the paper (vtp, opvtp, ftp, opftp), each with its pruning rules switched on and off in

@@ -1,0 +1,342 @@
+// Parallel propagation of one run (GeodesicOptions::threads > 1, vertex-sorted variants).
+//
+// The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time. Here
+// the wavefront advances by a band instead: every queued vertex within band_width_ of the nearest joins the
+// traversed area. Each thread takes a share of the band's vertices that lie together (vertex numbers follow
+// space), emits from those that bend paths and enters their faces, then crosses the lists this sets moving
+// and whatever they reach inside the traversed area, until no thread has a list left. A list is taken off
+// its edge under the edge's lock before it is pruned and crossed, so windows keep arriving there meanwhile
+// (and schedule it again); a vertex's distance and arrival change under the vertex's lock. Vertices reached
+// from outside the traversed area join the queue after the band, for the next.
+//
+// Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
+// pruning compares only with lengths of real paths: a distance read while another thread lowers it is
+// still one); the order only decides how much is pruned early, and which of two windows that agree to
+// within the pruning tolerance survives. So the distances agree with one thread's to that tolerance, and
+// in practice to a few ulps, but which thread crosses what, and when, changes the last bits between runs.
+// The earlier design of this engine was bit-reproducible: each band crossed its lists in rounds, with the
+// distances a round read frozen at its start, and a step on one thread between the rounds. On two cores it
+// gained 1.3x at best on 100K-face scans against 1.55-1.65x for this one (docs/performance.md).
+//
+// Work stays where it was made: a thread crosses the lists it scheduled, whose faces lie next to those it
+// crossed before, and hands half of them to a thread that has run out (the next time it looks, after a
+// crossing). There is no shared counter of work to be done: a band is over when every thread has run out,
+// since only a thread with a list to cross makes new ones.
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <thread>
+
+#include "phase_timer.hpp"
+#include "spin_lock.hpp"
+#include "vtp_engine.hpp"
+
+namespace exactgeo::detail {
+namespace {
+
+// Width of a band in mean edge lengths. Narrower bands mean more of them, each ending with the threads
+// waiting for the last list; wider ones cross lists before the nearer windows that would prune them have
+// arrived. Half an edge measured best on the scans (docs/performance.md).
+constexpr double kBandEdges = 0.5;
+
+// band_state_: one joined thread, one hungry thread, and the band being over.
+constexpr std::uint64_t kJoined = std::uint64_t{1} << 32, kHungry = 1, kBandOver = std::uint64_t{1} << 63;
+constexpr std::uint64_t hungry_count(std::uint64_t state) { return state & 0xffffffffu; }
+constexpr std::uint64_t joined_count(std::uint64_t state) { return (state & ~kBandOver) >> 32; }
+
+}  // namespace
+
+void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
+  if (!pool_ || pool_->threads() != threads) pool_ = std::make_unique<WorkerPool>(threads);
+  scratch_.assign(threads, ThreadScratch{});
+  list_locks_ = std::make_unique<HalfedgeLock[]>(mesh_.halfedges.size());
+  vertex_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.vertex_count);
+  crossing_queues_ = std::make_unique<CrossingQueue[]>(threads);
+  aborted_ = false;
+  // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked once:
+  // hardware_concurrency reads a file.)
+  hungry_spins_ = threads > std::thread::hardware_concurrency() ? 0 : 1024;
+  double total_length = 0;
+  for (const HalfedgeGeometry& g : mesh_.halfedges) total_length += g.length;
+  band_width_ = kBandEdges * total_length / static_cast<double>(std::max<std::size_t>(1, mesh_.halfedges.size()));
+
+  while (!vertex_queue_.empty()) {
+    update_cutoff();
+    ++stats_.parallel_bands;
+    ++iteration_;  // one iteration per band: all its faces are new to the traversed area
+    const double band_end = vertex_queue_.top_key() + band_width_;
+    band_.clear();
+    do {
+      std::uint32_t v;
+      {
+        const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+        v = vertex_queue_.pop();
+      }
+      move_inside(v);
+      band_.push_back(v);
+    } while (!vertex_queue_.empty() && vertex_queue_.top_key() <= band_end);
+    propagate_band();
+  }
+  for (const ThreadScratch& s : scratch_) {
+    stats_.pruning_seconds += s.stats.pruning_seconds;
+    stats_.prime_propagations += s.stats.prime_propagations;
+    stats_.secondary_propagations += s.stats.secondary_propagations;
+    stats_.prime_merges += s.stats.prime_merges;
+    stats_.secondary_merges += s.stats.secondary_merges;
+    stats_.pseudo_source_emissions += s.stats.pseudo_source_emissions;
+    stats_.parallel_crossings += s.stats.parallel_crossings;
+  }
+}
+
+// One band: the threads share its vertices and the crossings they set off. Then, on this thread, the vertices
+// reached from outside the traversed area join the queue.
+void VtpEngine::propagate_band() {
+  // Lists scheduled before the first band (by a source inside a face), and emissions of sources, on one
+  // thread as the sequential engine would.
+  while (!emit_queue_.empty()) emit_lowered_pseudo_source();
+  for (const std::uint32_t h : pending_) {
+    scheduled_[h] = 0;
+    list_locks_[h].scheduled = 1;
+  }
+  const unsigned threads = pool_->threads();
+  for (unsigned t = 0; t < threads; ++t) {  // each ended the last band hungry and unfed
+    crossing_queues_[t].hungry.store(false, std::memory_order_relaxed);
+    crossing_queues_[t].fed.store(false, std::memory_order_relaxed);
+    crossing_queues_[t].share_taken.store(false, std::memory_order_relaxed);
+  }
+  crossing_queues_[0].items.assign(pending_.begin(), pending_.end());
+  crossing_queues_[0].front = 0;
+  pending_.clear();
+  for (unsigned t = 1; t < threads; ++t)
+    std::nth_element(band_.begin() + static_cast<std::ptrdiff_t>(band_.size() * (t - 1) / threads),
+                     band_.begin() + static_cast<std::ptrdiff_t>(band_.size() * t / threads), band_.end());
+  band_state_.store(0, std::memory_order_relaxed);
+  {
+    const PhaseTimer parallel(options_.collect_timings, stats_.parallel_seconds);
+    pool_->run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
+  }
+  std::uint16_t deepest = 0;
+  for (ThreadScratch& s : scratch_) {
+    for (const std::uint32_t v : s.reached)
+      if (state_[v] == VertexState::queued) push_vertex(v, distance_[v]);
+    s.reached.clear();
+    targets_changed_ = targets_changed_ || s.targets_changed;
+    s.targets_changed = false;
+    deepest = std::max(deepest, s.deepest);
+    s.deepest = 0;
+  }
+  stats_.parallel_critical_path += deepest;
+  lists_.note_peak();
+}
+
+// One thread's part of a band, if it comes before the band is over: it takes shares of the band's vertices
+// while there are any, then crosses lists until every thread that joined has run out.
+void VtpEngine::propagate_band_on(unsigned thread) {
+  if (!join_band()) return;
+  const unsigned threads = pool_->threads();
+  ThreadScratch& scratch = scratch_[thread];
+  CrossingQueue& queue = crossing_queues_[thread];
+  auto emit_lowered = [&] {
+    while (!scratch.to_emit.empty()) {
+      const std::uint32_t v = scratch.to_emit.back();
+      scratch.to_emit.pop_back();
+      emit_concurrently(v, thread);
+    }
+  };
+  try {
+    scratch.depth = 0;
+    // Its own share first: the same part of the wavefront as in the last band, whose lists it has in its cache.
+    for (unsigned k = 0; k < threads; ++k) {
+      const unsigned share = (thread + k) % threads;
+      if (crossing_queues_[share].share_taken.exchange(true, std::memory_order_relaxed)) continue;
+      for (std::size_t i = band_.size() * share / threads; i < band_.size() * (share + 1) / threads; ++i) {
+        enclose_concurrently(band_[i], thread);
+        emit_lowered();
+      }
+    }
+    while (!aborted_.load(std::memory_order_relaxed)) {
+      if (queue.front < queue.items.size()) {
+        const std::uint32_t h = queue.items[queue.front++];
+        if (queue.front == queue.items.size()) {
+          queue.items.clear();
+          queue.front = 0;
+        }
+        cross_concurrently(h, thread);
+        emit_lowered();
+        if (hungry_count(band_state_.load(std::memory_order_relaxed)) > 0) feed_hungry(thread);
+        continue;
+      }
+      // Counted before it says so: a thread that sees it hungry finds it counted.
+      band_state_.fetch_add(kHungry, std::memory_order_acq_rel);
+      queue.hungry.store(true, std::memory_order_release);
+      wait_until([&] { return band_over_or_fed(queue); }, hungry_spins_);
+      if (!queue.fed.load(std::memory_order_acquire)) return;
+      const SpinGuard guard(queue.inbox_lock);
+      queue.items.swap(queue.inbox);
+      queue.fed.store(false, std::memory_order_relaxed);
+    }
+  } catch (...) {
+    aborted_ = true;  // the others stop too: the lists they wait for will not come
+    throw;
+  }
+}
+
+// Counts this thread in, unless the band is over.
+bool VtpEngine::join_band() {
+  std::uint64_t state = band_state_.load(std::memory_order_acquire);
+  do {
+    if (state & kBandOver) return false;
+  } while (!band_state_.compare_exchange_weak(state, state + kJoined, std::memory_order_acq_rel));
+  return true;
+}
+
+// For a hungry thread: whether it was fed, or the band is over (it closes the band if every thread that
+// joined is hungry: only a thread with lists makes new ones, and every share of vertices was taken before
+// any thread got hungry).
+bool VtpEngine::band_over_or_fed(const CrossingQueue& queue) {
+  if (queue.fed.load(std::memory_order_acquire) || aborted_.load(std::memory_order_relaxed)) return true;
+  std::uint64_t state = band_state_.load(std::memory_order_acquire);
+  while (!(state & kBandOver)) {
+    if (hungry_count(state) != joined_count(state)) return false;
+    if (band_state_.compare_exchange_weak(state, state | kBandOver, std::memory_order_acq_rel)) return true;
+  }
+  return true;
+}
+
+// Hands half of this thread's lists (the newest, which lie together) to each hungry thread. The one fed is
+// counted as no longer hungry before it knows: the count never shows every thread hungry while lists
+// move between them (this one is not).
+void VtpEngine::feed_hungry(unsigned thread) {
+  CrossingQueue& queue = crossing_queues_[thread];
+  const unsigned threads = pool_->threads();
+  for (unsigned k = 1; k < threads && queue.items.size() - queue.front >= 2; ++k) {
+    CrossingQueue& other = crossing_queues_[(thread + k) % threads];
+    if (!other.hungry.load(std::memory_order_acquire)) continue;
+    const SpinGuard guard(other.inbox_lock);
+    if (!other.hungry.load(std::memory_order_relaxed)) continue;
+    const std::size_t keep = queue.front + (queue.items.size() - queue.front) / 2;
+    other.inbox.assign(queue.items.begin() + static_cast<std::ptrdiff_t>(keep), queue.items.end());
+    queue.items.resize(keep);
+    other.hungry.store(false, std::memory_order_relaxed);
+    band_state_.fetch_sub(kHungry, std::memory_order_acq_rel);
+    other.fed.store(true, std::memory_order_release);
+  }
+}
+
+// enclose_vertex, with other threads running. A face joins the traversed area before its lists are looked
+// at, each under its lock: a window placed or delivered there meanwhile either finds the face inside (and
+// whoever brought it schedules the list) or is found here.
+void VtpEngine::enclose_concurrently(std::uint32_t v, unsigned thread) {
+  if (bends_paths(v)) scratch_[thread].to_emit.push_back(v);
+  prefetch_faces_of(v);
+  for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
+    const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
+    std::uint32_t unvisited = kNone;
+    if (!std::atomic_ref<std::uint32_t>(face_visited_at_[f]).compare_exchange_strong(unvisited, iteration_)) continue;
+    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+      const SpinGuard guard(list_locks_[h].lock);
+      if (!lists_.empty(h)) schedule_locked(h, thread);
+    }
+  }
+}
+
+// cross, with other threads running: the list is taken off h first, so that windows can join h meanwhile
+// (they schedule it again).
+void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
+  ThreadScratch& scratch = scratch_[thread];
+  WindowLists::Taken taken;
+  {
+    HalfedgeLock& edge = list_locks_[h];
+    const SpinGuard guard(edge.lock);
+    edge.scheduled = 0;
+    scratch.depth = std::max<std::uint16_t>(edge.depth, 1);
+    edge.depth = 0;
+    taken = lists_.take(h);
+  }
+  if (taken.size == 0) return;
+  prefetch_destinations(h);
+  ++scratch.stats.parallel_crossings;
+  scratch.deepest = std::max(scratch.deepest, scratch.depth);
+  std::span<Window> incoming(taken.data, taken.size);
+  if (options_.rule23) {
+    const PhaseTimer timer(options_.collect_timings, scratch.stats.pruning_seconds);
+    incoming = incoming.first(prune_list(incoming, tolerances_));
+  }
+  // The face entered in this band or before: no thread changes its visit any more.
+  const bool prime = std::atomic_ref<std::uint32_t>(face_visited_at_[face_of(h)]).load(std::memory_order_relaxed) == iteration_;
+  ApexReach reach;
+  Arrival at_apex;
+  for (std::vector<Window>& crossed : scratch.crossed) crossed.clear();
+  const std::uint64_t propagations =
+      cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], reach, at_apex);
+  (prime ? scratch.stats.prime_propagations : scratch.stats.secondary_propagations) += propagations;
+  if (!face_target_offsets_.empty()) {
+    const std::lock_guard lock(targets_mutex_);
+    evaluate_targets(h, incoming);
+  }
+  lists_.give_back(taken, thread);
+  relax_concurrently(mesh_.apex(h), reach.distance, at_apex, thread);
+  deliver_concurrently(prev_halfedge(h), scratch.crossed[0], mesh_.tail(h), prime, thread);
+  deliver_concurrently(next_halfedge(h), scratch.crossed[1], mesh_.head(h), prime, thread);
+}
+
+// relax, with other threads running: v's distance and arrival change under its lock; the vertex queue
+// learns of v after the band, and a pseudo-source inside emits again once this thread's crossing is done.
+void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread) {
+  if (!(d < distance_now(v))) return;
+  ThreadScratch& scratch = scratch_[thread];
+  const SpinGuard guard(vertex_locks_[v]);
+  if (!(d < distance_[v])) return;
+  if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) scratch.targets_changed = true;
+  std::atomic_ref<double>(distance_[v]).store(d, std::memory_order_relaxed);
+  arrival_[v] = arrival;
+  if (state_[v] != VertexState::inside) {
+    state_[v] = VertexState::queued;
+    scratch.reached.push_back(v);
+  } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
+    emit_scheduled_[v] = 1;
+    scratch.to_emit.push_back(v);
+  }
+}
+
+// place_new_window, with other threads running.
+void VtpEngine::place_concurrently(std::uint32_t g, const Window& w, unsigned thread) {
+  if (beyond_cutoff(w)) return;
+  const SpinGuard guard(list_locks_[g].lock);
+  if (face_inside(face_of(g))) {
+    lists_.append(g, {&w, 1}, thread);
+    schedule_locked(g, thread);
+  } else {
+    lists_.prepend(g, {&w, 1}, thread);
+  }
+}
+
+// deliver, with other threads running. The edge's face may have joined the traversed area since hand_over
+// looked: the windows then join as inside, and the list is scheduled.
+void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windows, std::uint32_t origin,
+                                     bool prime, unsigned thread) {
+  if (windows.empty()) return;
+  Handover to = hand_over(side, windows, origin, prime);
+  if (to.edge == kNone || to.count == 0) return;
+  GeodesicStats& stats = scratch_[thread].stats;
+  const SpinGuard guard(list_locks_[to.edge].lock);
+  if (face_inside(face_of(to.edge))) to.joining = Joining::inside;
+  if (to.joining != Joining::inside && !lists_.empty(to.edge)) ++(prime ? stats.prime_merges : stats.secondary_merges);
+  const std::span<Window> list = lists_.extend(to.edge, to.count, thread);
+  std::copy(windows.begin(), windows.begin() + to.count, list.end() - static_cast<std::ptrdiff_t>(to.count));
+  join(list, to.count, to.joining);
+  if (to.joining == Joining::inside) schedule_locked(to.edge, thread);
+}
+
+// schedule, with h's lock held: into this thread's queue. The list's depth is one more than the crossing's
+// that reached it (saturating: only a statistic).
+void VtpEngine::schedule_locked(std::uint32_t h, unsigned thread) {
+  HalfedgeLock& edge = list_locks_[h];
+  const std::uint16_t depth = scratch_[thread].depth;
+  edge.depth = std::max<std::uint16_t>(edge.depth, depth == UINT16_MAX ? depth : static_cast<std::uint16_t>(depth + 1));
+  if (edge.scheduled) return;
+  edge.scheduled = 1;
+  crossing_queues_[thread].items.push_back(h);
+}
+
+}  // namespace exactgeo::detail
