@@ -20,8 +20,8 @@
 //
 // Work stays where it was made: a thread crosses the lists it scheduled, whose faces lie next to those it
 // crossed before, and hands half of them to a thread that has run out (the next time it looks, after a
-// crossing). There is no shared counter of work to be done: a band is over when every thread has run out,
-// since only a thread with a list to cross makes new ones.
+// crossing). There is no shared counter of work to be done: a band is over when every thread that joined it
+// has run out, since only a thread with a list to cross makes new ones.
 #include <algorithm>
 #include <atomic>
 #include <mutex>
@@ -244,7 +244,7 @@ void VtpEngine::enclose_concurrently(std::uint32_t v, unsigned thread) {
 // (they schedule it again).
 void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
-  WindowLists::Taken taken;
+  WindowLists::List taken;
   {
     HalfedgeLock& edge = list_locks_[h];
     const SpinGuard guard(edge.lock);

@@ -492,9 +492,8 @@ void VtpEngine::prefetch_face(std::uint32_t f) const {
   prefetch(&mesh_.corner_vertex[3 * f]);
 }
 
-// Cache hints for what crossing the list on h reads first: its record and its face. Issued one list ahead.
-// It reads only what no thread changes during a round (the list's windows are asked for where no other
-// thread can be changing its record: see drain).
+// Cache hints for what crossing the list on h reads first: its record and its face. Issued one list ahead
+// by the sequential engine (drain), which asks for the list's windows too.
 void VtpEngine::prefetch_crossing(std::uint32_t h) const {
   lists_.prefetch_record(h);
   prefetch_face(face_of(h));

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "assert.hpp"
@@ -53,20 +54,15 @@ class WindowLists {
 
   // Takes h's list away, leaving h empty, for work on it while other windows join h (several threads);
   // give_back returns its block once done.
-  struct Taken {
+  struct List {  // a list's record: its block, and the windows in use at its start
     Window* data = nullptr;
     std::uint32_t size = 0, capacity = 0;
   };
-  Taken take(std::uint32_t h) {
-    const List list = lists_[h];
-    lists_[h] = List{};
-    return {list.data, list.size, list.capacity};
-  }
-  void give_back(const Taken& taken, unsigned thread) {
+  List take(std::uint32_t h) { return std::exchange(lists_[h], List{}); }
+  void give_back(List taken, unsigned thread) {
     Allocator& a = allocators_[thread];
     a.live -= taken.size;
-    List list{taken.data, taken.size, taken.capacity};
-    release(list, a);
+    release(taken, a);
   }
 
   // Empties h's list, giving its block back for reuse.
@@ -121,10 +117,6 @@ class WindowLists {
   }
 
  private:
-  struct List {
-    Window* data = nullptr;
-    std::uint32_t size = 0, capacity = 0;
-  };
   static constexpr std::uint32_t kSmallestBlock = 4;
   // Chunks start small (a small mesh needs little) and double up to a few megabytes.
   static constexpr std::size_t kFirstChunk = 1024, kLargestChunk = std::size_t{1} << 16;
