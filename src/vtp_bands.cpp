@@ -1,13 +1,14 @@
 // Parallel propagation of one run (GeodesicOptions::threads > 1, vertex-sorted variants).
 //
 // The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time. Here
-// the wavefront advances by a band instead: every queued vertex within band_width_ of the nearest joins the
-// traversed area. Each thread takes a share of the band's vertices that lie together (vertex numbers follow
+// the wavefront advances by a band instead: the queued vertices whose distances lie in the nearest slice of
+// band_width_ (of a fixed grid) join the traversed area. Each thread takes a share of the band's vertices that lie together (vertex numbers follow
 // space), emits from those that bend paths and enters their faces, then crosses the lists this sets moving
 // and whatever they reach inside the traversed area, until no thread has a list left. A list is taken off
 // its edge under the edge's lock before it is pruned and crossed, so windows keep arriving there meanwhile
-// (and schedule it again); a vertex's distance and arrival change under the vertex's lock. Vertices reached
-// from outside the traversed area join the queue after the band, for the next.
+// (and schedule it again); a vertex's distance and arrival change under the vertex's lock. A vertex reached
+// from outside the traversed area is filed, by the thread that reached it, under the band of its distance:
+// the bands' queue is a list per band and thread, so no heap is kept on one thread between the bands.
 //
 // Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
 // pruning compares only with lengths of real paths: a distance read while another thread lowers it is
@@ -59,22 +60,25 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   double total_length = 0;
   for (const HalfedgeGeometry& g : mesh_.halfedges) total_length += g.length;
   band_width_ = kBandEdges * total_length / static_cast<double>(std::max<std::size_t>(1, mesh_.halfedges.size()));
+  if (!(band_width_ > 0)) band_width_ = 1;  // every edge of length 0: every distance is 0
 
-  while (!vertex_queue_.empty()) {
+  for (ThreadScratch& s : scratch_) s.queued_by_band.resize(kBandSlots);
+  band_of_.assign(mesh_.vertex_count, 0);  // band 0 is never under way: sources at distance 0 fall in band 1
+  band_index_ = 0;
+
+  while (true) {
     update_cutoff();
+    // Vertices queued on this thread alone (by the sources, and by emissions of sources in the first band).
+    while (!vertex_queue_.empty()) {
+      const std::uint32_t v = vertex_queue_.pop();
+      file_in_band(v, distance_[v], scratch_[0]);
+    }
+    {
+      const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
+      if (!gather_band()) break;
+    }
     ++stats_.parallel_bands;
     ++iteration_;  // one iteration per band: all its faces are new to the traversed area
-    const double band_end = vertex_queue_.top_key() + band_width_;
-    band_.clear();
-    do {
-      std::uint32_t v;
-      {
-        const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-        v = vertex_queue_.pop();
-      }
-      move_inside(v);
-      band_.push_back(v);
-    } while (!vertex_queue_.empty() && vertex_queue_.top_key() <= band_end);
     propagate_band();
   }
   for (const ThreadScratch& s : scratch_) {
@@ -86,6 +90,46 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
     stats_.pseudo_source_emissions += s.stats.pseudo_source_emissions;
     stats_.parallel_crossings += s.stats.parallel_crossings;
   }
+}
+
+// Makes the nearest band that holds queued vertices the band under way and moves them inside; false once
+// no band holds any. A vertex filed in the last slot because it lay farther ahead is filed again here.
+bool VtpEngine::gather_band() {
+  band_.clear();
+  for (std::uint64_t empty_slots = 0; band_.empty();) {
+    const std::uint64_t band = ++band_index_;
+    bool any = false;
+    for (ThreadScratch& s : scratch_) {
+      std::vector<std::uint32_t>& slot = s.queued_by_band[band % kBandSlots];
+      any = any || !slot.empty();
+      for (const std::uint32_t v : slot) {
+        if (state_[v] != VertexState::queued || band_of_[v] != band) continue;  // inside, or filed again since
+        if (band_of_distance(distance_[v]) > static_cast<double>(band)) {
+          file_in_band(v, distance_[v], scratch_[0]);  // into a later slot
+          continue;
+        }
+        move_inside(v);
+        band_.push_back(v);
+      }
+      slot.clear();
+    }
+    empty_slots = any ? 0 : empty_slots + 1;
+    if (empty_slots == kBandSlots - 1) return false;  // every slot a vertex can be filed in is empty
+  }
+  return true;
+}
+
+// Files queued vertex v, at distance d, in its band, or in the nearest one the queue can still take: after
+// the band under way, at most kBandSlots - 1 ahead of it. Called under v's lock while the threads run.
+void VtpEngine::file_in_band(std::uint32_t v, double d, ThreadScratch& scratch) {
+  const std::uint64_t first = band_index_ + 1, last = band_index_ + kBandSlots - 1;
+  const double at = band_of_distance(d);
+  const std::uint64_t band = at <= static_cast<double>(first) ? first
+                             : at >= static_cast<double>(last) ? last
+                                                               : static_cast<std::uint64_t>(at);
+  if (band_of_[v] == band) return;
+  band_of_[v] = band;
+  scratch.queued_by_band[band % kBandSlots].push_back(v);
 }
 
 // One band: the threads share its vertices and the crossings they set off. Then, on this thread, the vertices
@@ -117,9 +161,6 @@ void VtpEngine::propagate_band() {
   }
   std::uint16_t deepest = 0;
   for (ThreadScratch& s : scratch_) {
-    for (const std::uint32_t v : s.reached)
-      if (state_[v] == VertexState::queued) push_vertex(v, distance_[v]);
-    s.reached.clear();
     targets_changed_ = targets_changed_ || s.targets_changed;
     s.targets_changed = false;
     deepest = std::max(deepest, s.deepest);
@@ -292,7 +333,7 @@ void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arr
   arrival_[v] = arrival;
   if (state_[v] != VertexState::inside) {
     state_[v] = VertexState::queued;
-    scratch.reached.push_back(v);
+    file_in_band(v, d, scratch);
   } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
     emit_scheduled_[v] = 1;
     scratch.to_emit.push_back(v);

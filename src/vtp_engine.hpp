@@ -184,14 +184,22 @@ class VtpEngine {
   struct alignas(64) ThreadScratch {  // a cache line of its own: each thread writes its own often
     std::vector<double> splits;
     std::array<std::vector<Window>, 2> crossed;
-    std::vector<std::uint32_t> reached;  // vertices it queued: pushed into the vertex queue after the band
+    // Vertices it queued, by the band they fall in: the slot of band k is queued_by_band[k % kBandSlots].
+    std::vector<std::vector<std::uint32_t>> queued_by_band;
     std::vector<std::uint32_t> to_emit;  // pseudo-sources inside that it lowered: they emit again
     std::uint16_t depth = 0;             // of the crossing under way (0: enclosing a vertex)
     std::uint16_t deepest = 0;           // of the band's crossings so far
     bool targets_changed = false;
     GeodesicStats stats;  // its propagations, merges, emissions, crossings and pruning time
   };
+  // The bands' queue. Band k holds the queued vertices at distances in [k - 1, k) band widths: lowering a
+  // vertex's distance files it anew (in the queue of the thread that did) and leaves a stale entry behind,
+  // told apart by band_of_. A vertex filed while its band is under way, or behind it, goes into the next; one
+  // more than kBandSlots - 1 bands ahead into the last slot, and moves on from there when its turn comes.
+  static constexpr std::uint64_t kBandSlots = 1024;
   double band_width_ = 0;  // engine lengths: the wavefront advances by about half an edge per band
+  std::uint64_t band_index_ = 0;         // of the band under way
+  std::vector<std::uint64_t> band_of_;   // per vertex: the band it was last filed in
   std::unique_ptr<WorkerPool> pool_;
   std::vector<ThreadScratch> scratch_;
   std::vector<std::uint32_t> band_;  // the vertices a band moves inside
@@ -204,6 +212,10 @@ class VtpEngine {
   std::atomic<bool> aborted_{false};    // a thread threw: the others stop
   int hungry_spins_ = 0;                // how long a hungry thread spins before it yields the core
   std::mutex targets_mutex_;
+  bool gather_band();
+  // Band k holds distances in [k - 1, k) band widths.
+  double band_of_distance(double d) const { return std::floor(d / band_width_) + 1; }
+  void file_in_band(std::uint32_t v, double d, ThreadScratch& scratch);
   void propagate_band();
   void propagate_band_on(unsigned thread);
   bool join_band();

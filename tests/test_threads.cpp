@@ -27,8 +27,28 @@ using exactgeo::Mesh;
 constexpr unsigned kThreadCounts[] = {2, 3, 8};
 constexpr double kAgreement = 1e-14;
 
+// A fine grid with a needle on one boundary edge: a triangle thousands of cells long, like a scan's junk. The
+// mean edge is about 2.4, so the needle's tip lies over 3,000 bands (of half a mean edge) beyond the grid:
+// farther than the parallel bands' queue files vertices ahead, so the tip moves on through its last slot.
+exactgeo::MeshSoup grid_with_needle() {
+  constexpr int kCells = 32;
+  exactgeo::MeshSoup soup;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) exactgeo_test::add_vertex(soup, {double(i), double(j), 0.0});
+  auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (kCells + 1) + i); };
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      exactgeo_test::add_triangle(soup, at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      exactgeo_test::add_triangle(soup, at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  const std::uint32_t tip = exactgeo_test::add_vertex(soup, {kCells / 2 + 0.5, -4000.0, 0.0});
+  exactgeo_test::add_triangle(soup, at(kCells / 2 + 1, 0), at(kCells / 2, 0), tip);
+  return soup;
+}
+
 // The generated meshes: smooth and noisy height fields (saddles everywhere), a bumpy torus (closed, no
-// boundary), grids with holes (boundary vertices as pseudo-sources) and a fine icosphere.
+// boundary), grids with holes (boundary vertices as pseudo-sources), a fine icosphere and a grid with a
+// needle.
 std::vector<std::pair<std::string, Mesh>> generated_meshes() {
   std::vector<std::pair<std::string, Mesh>> meshes;
   exactgeo_test::Random random(2016);
@@ -37,6 +57,7 @@ std::vector<std::pair<std::string, Mesh>> generated_meshes() {
   meshes.emplace_back("bumpy torus", Mesh(exactgeo::make_bumpy_torus(48, 24)));
   meshes.emplace_back("grid with holes", Mesh(exactgeo_test::random_grid_with_holes(random, 24, 20, 4)));
   meshes.emplace_back("icosphere", Mesh(exactgeo::make_icosphere(4)));
+  meshes.emplace_back("grid with a needle", Mesh(grid_with_needle()));
   return meshes;
 }
 
