@@ -2,13 +2,14 @@
 //
 // The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time. Here
 // the wavefront advances by a band instead: the queued vertices whose distances lie in the nearest slice of
-// band_width_ (of a fixed grid) join the traversed area. Each thread takes a share of the band's vertices that lie together (vertex numbers follow
-// space), emits from those that bend paths and enters their faces, then crosses the lists this sets moving
-// and whatever they reach inside the traversed area, until no thread has a list left. A list is taken off
-// its edge under the edge's lock before it is pruned and crossed, so windows keep arriving there meanwhile
-// (and schedule it again); a vertex's distance and arrival change under the vertex's lock. A vertex reached
-// from outside the traversed area is filed, by the thread that reached it, under the band of its distance:
-// the bands' queue is a list per band and thread, so no heap is kept on one thread between the bands.
+// band_width_ (of a fixed grid) join the traversed area. Each thread takes a share of the band's vertices
+// that lie together (vertex numbers follow space), emits from those that bend paths and enters their faces,
+// then crosses the lists this sets moving and whatever they reach inside the traversed area, until no thread
+// has a list left. A list is taken off its edge under the lock of the edge's face (one lock guards a face's
+// three lists) before it is pruned and crossed, so windows keep arriving there meanwhile (and schedule it
+// again); a vertex's distance and arrival change under the vertex's lock. A vertex reached from outside the
+// traversed area is filed, by the thread that reached it, under the band of its distance: the bands' queue
+// is a list per band and thread, so no heap is kept on one thread between the bands.
 //
 // Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
 // pruning compares only with lengths of real paths: a distance read while another thread lowers it is
@@ -50,7 +51,8 @@ constexpr std::uint64_t joined_count(std::uint64_t state) { return (state & ~kBa
 void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   if (!pool_ || pool_->threads() != threads) pool_ = std::make_unique<WorkerPool>(threads);
   scratch_.assign(threads, ThreadScratch{});
-  list_locks_ = std::make_unique<HalfedgeLock[]>(mesh_.halfedges.size());
+  face_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.face_count());
+  list_states_ = std::make_unique<ListState[]>(mesh_.halfedges.size());
   vertex_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.vertex_count);
   crossing_queues_ = std::make_unique<CrossingQueue[]>(threads);
   aborted_ = false;
@@ -140,7 +142,7 @@ void VtpEngine::propagate_band() {
   while (!emit_queue_.empty()) emit_lowered_pseudo_source();
   for (const std::uint32_t h : pending_) {
     scheduled_[h] = 0;
-    list_locks_[h].scheduled = 1;
+    list_states_[h].scheduled = 1;
   }
   const unsigned threads = pool_->threads();
   for (unsigned t = 0; t < threads; ++t) {  // each ended the last band hungry and unfed
@@ -264,20 +266,20 @@ void VtpEngine::feed_hungry(unsigned thread) {
   }
 }
 
-// enclose_vertex, with other threads running. A face joins the traversed area before its lists are looked
-// at, each under its lock: a window placed or delivered there meanwhile either finds the face inside (and
-// whoever brought it schedules the list) or is found here.
+// enclose_vertex, with other threads running. A face joins the traversed area under its lock, which its
+// lists' windows arrive under too: a window placed or delivered there either comes first and is found here,
+// or finds the face inside and is scheduled by whoever brought it.
 void VtpEngine::enclose_concurrently(std::uint32_t v, unsigned thread) {
   if (bends_paths(v)) scratch_[thread].to_emit.push_back(v);
   prefetch_faces_of(v);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
-    std::uint32_t unvisited = kNone;
-    if (!std::atomic_ref<std::uint32_t>(face_visited_at_[f]).compare_exchange_strong(unvisited, iteration_)) continue;
-    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-      const SpinGuard guard(list_locks_[h].lock);
+    if (face_inside(f)) continue;  // most are: a plain load spares taking the lock, a locked instruction
+    const SpinGuard guard(face_locks_[f]);
+    if (face_inside(f)) continue;  // another thread's vertex of the same band entered it meanwhile
+    std::atomic_ref<std::uint32_t>(face_visited_at_[f]).store(iteration_, std::memory_order_relaxed);
+    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
       if (!lists_.empty(h)) schedule_locked(h, thread);
-    }
   }
 }
 
@@ -287,8 +289,8 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
   WindowLists::List taken;
   {
-    HalfedgeLock& edge = list_locks_[h];
-    const SpinGuard guard(edge.lock);
+    ListState& edge = list_states_[h];
+    const SpinGuard guard(face_locks_[face_of(h)]);
     edge.scheduled = 0;
     scratch.depth = std::max<std::uint16_t>(edge.depth, 1);
     edge.depth = 0;
@@ -321,8 +323,8 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   deliver_concurrently(next_halfedge(h), scratch.crossed[1], mesh_.head(h), prime, thread);
 }
 
-// relax, with other threads running: v's distance and arrival change under its lock; the vertex queue
-// learns of v after the band, and a pseudo-source inside emits again once this thread's crossing is done.
+// relax, with other threads running: v's distance and arrival change under its lock; v is filed in the
+// bands' queue by this thread, and a pseudo-source inside emits again once this thread's crossing is done.
 void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread) {
   if (!(d < distance_now(v))) return;
   ThreadScratch& scratch = scratch_[thread];
@@ -343,7 +345,7 @@ void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arr
 // place_new_window, with other threads running.
 void VtpEngine::place_concurrently(std::uint32_t g, const Window& w, unsigned thread) {
   if (beyond_cutoff(w)) return;
-  const SpinGuard guard(list_locks_[g].lock);
+  const SpinGuard guard(face_locks_[face_of(g)]);
   if (face_inside(face_of(g))) {
     lists_.append(g, {&w, 1}, thread);
     schedule_locked(g, thread);
@@ -360,7 +362,7 @@ void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windo
   Handover to = hand_over(side, windows, origin, prime);
   if (to.edge == kNone || to.count == 0) return;
   GeodesicStats& stats = scratch_[thread].stats;
-  const SpinGuard guard(list_locks_[to.edge].lock);
+  const SpinGuard guard(face_locks_[face_of(to.edge)]);
   if (face_inside(face_of(to.edge))) to.joining = Joining::inside;
   if (to.joining != Joining::inside && !lists_.empty(to.edge)) ++(prime ? stats.prime_merges : stats.secondary_merges);
   const std::span<Window> list = lists_.extend(to.edge, to.count, thread);
@@ -369,10 +371,10 @@ void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windo
   if (to.joining == Joining::inside) schedule_locked(to.edge, thread);
 }
 
-// schedule, with h's lock held: into this thread's queue. The list's depth is one more than the crossing's
+// schedule, with the lock of h's face held: into this thread's queue. The list's depth is one more than the crossing's
 // that reached it (saturating: only a statistic).
 void VtpEngine::schedule_locked(std::uint32_t h, unsigned thread) {
-  HalfedgeLock& edge = list_locks_[h];
+  ListState& edge = list_states_[h];
   const std::uint16_t depth = scratch_[thread].depth;
   edge.depth = std::max<std::uint16_t>(edge.depth, depth == UINT16_MAX ? depth : static_cast<std::uint16_t>(depth + 1));
   if (edge.scheduled) return;

@@ -165,8 +165,7 @@ class VtpEngine {
   // Parallel propagation (options_.threads > 1, vertex-sorted; vtp_bands.cpp): the wavefront advances by
   // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
   // lists that sets moving, each list and each vertex changed under its own lock.
-  struct HalfedgeLock {  // per halfedge, guarding its list and these fields
-    std::atomic<std::uint8_t> lock{0};
+  struct ListState {  // per halfedge, guarded by its face's lock like the list itself
     std::uint8_t scheduled = 0;  // in a thread's queue
     std::uint16_t depth = 0;     // the longest chain of crossings of the band that reached the list so far
   };
@@ -203,7 +202,9 @@ class VtpEngine {
   std::unique_ptr<WorkerPool> pool_;
   std::vector<ThreadScratch> scratch_;
   std::vector<std::uint32_t> band_;  // the vertices a band moves inside
-  std::unique_ptr<HalfedgeLock[]> list_locks_;
+  // One lock per face guards the lists of its three halfedges (entering a face takes one lock, not three).
+  std::unique_ptr<std::atomic<std::uint8_t>[]> face_locks_;
+  std::unique_ptr<ListState[]> list_states_;
   std::unique_ptr<std::atomic<std::uint8_t>[]> vertex_locks_;
   std::unique_ptr<CrossingQueue[]> crossing_queues_;
   // Who works on the band: the threads that joined it (high half), those of them hungry (low half), and
