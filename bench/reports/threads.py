@@ -97,8 +97,8 @@ def write_markdown(path: Path, report: dict) -> str:
               "share each band's vertices and the list crossings they set off, a crossing often waiting for "
               "another that reaches its list. The critical path is the longest such chain in each band, summed "
               "over the bands; crossings per step of it are the width. The prediction takes the 2-thread run "
-              "apart (--timers): what stays on one thread (popping a band's vertices, queueing the vertices it "
-              "reached) stays; the shared part (twice its wall time is the work of both threads) is divided by "
+              "apart (--timers): what stays on one thread (setting the run up, gathering each band's vertices, "
+              "writing the result) stays; the shared part (twice its wall time is the work of both threads) is divided by "
               "the thread count. It assumes the threads keep as busy and the locks stay as cheap with more "
               "threads, and no band waits longer than its critical path, so it is an upper bound on the gain.", ""]
     rows = []
