@@ -164,7 +164,7 @@ class VtpEngine {
 
   // Parallel propagation (options_.threads > 1, vertex-sorted; vtp_bands.cpp): the wavefront advances by
   // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
-  // lists that sets moving, each list and each vertex changed under its own lock.
+  // lists that sets moving, the lists of each face and each vertex changed under a lock of their own.
   struct ListState {  // per halfedge, guarded by its face's lock like the list itself
     std::uint8_t scheduled = 0;  // in a thread's queue
     std::uint16_t depth = 0;     // the longest chain of crossings of the band that reached the list so far
