@@ -134,8 +134,8 @@ void VtpEngine::file_in_band(std::uint32_t v, double d, ThreadScratch& scratch) 
   scratch.queued_by_band[band % kBandSlots].push_back(v);
 }
 
-// One band: the threads share its vertices and the crossings they set off. Then, on this thread, the vertices
-// reached from outside the traversed area join the queue.
+// One band: the threads share its vertices and the crossings they set off (and file the vertices they reach
+// from outside the traversed area in the bands' queue).
 void VtpEngine::propagate_band() {
   // Lists scheduled before the first band (by a source inside a face), and emissions of sources, on one
   // thread as the sequential engine would.
@@ -371,8 +371,8 @@ void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windo
   if (to.joining == Joining::inside) schedule_locked(to.edge, thread);
 }
 
-// schedule, with the lock of h's face held: into this thread's queue. The list's depth is one more than the crossing's
-// that reached it (saturating: only a statistic).
+// schedule, with the lock of h's face held: into this thread's queue. The list's depth is one more than the
+// crossing's that reached it (saturating: only a statistic).
 void VtpEngine::schedule_locked(std::uint32_t h, unsigned thread) {
   ListState& edge = list_states_[h];
   const std::uint16_t depth = scratch_[thread].depth;

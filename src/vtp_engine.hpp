@@ -193,8 +193,8 @@ class VtpEngine {
   };
   // The bands' queue. Band k holds the queued vertices at distances in [k - 1, k) band widths: lowering a
   // vertex's distance files it anew (in the queue of the thread that did) and leaves a stale entry behind,
-  // told apart by band_of_. A vertex filed while its band is under way, or behind it, goes into the next; one
-  // more than kBandSlots - 1 bands ahead into the last slot, and moves on from there when its turn comes.
+  // told apart by band_of_. A vertex whose band is under way, or behind, goes into the next band; one more
+  // than kBandSlots - 1 bands ahead goes into the last slot, and moves on from there when its turn comes.
   static constexpr std::uint64_t kBandSlots = 1024;
   double band_width_ = 0;  // engine lengths: the wavefront advances by about half an edge per band
   std::uint64_t band_index_ = 0;         // of the band under way
