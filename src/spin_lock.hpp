@@ -1,26 +1,14 @@
-// Locks of one byte for the parallel propagation: each guards one list or one vertex for a few dozen
+// Locks of one byte for the parallel propagation: each guards a face's lists or one vertex for a few dozen
 // instructions, so waiting spins rather than sleeping; with more threads than cores the holder may be
 // waiting for a core, so a long wait yields it.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
-#include <thread>
 
 #include "worker_pool.hpp"
 
 namespace exactgeo::detail {
-
-// Spins (`spins` times at most), then yields, until `ready` holds.
-template <class Ready>
-void wait_until(Ready&& ready, int spins = 256) {
-  for (int spun = 0; !ready(); ++spun) {
-    if (spun < spins)
-      worker_pool_detail::pause_briefly();
-    else
-      std::this_thread::yield();
-  }
-}
 
 class SpinGuard {
  public:

@@ -27,7 +27,6 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
-#include <thread>
 
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
@@ -56,9 +55,9 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   vertex_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.vertex_count);
   crossing_queues_ = std::make_unique<CrossingQueue[]>(threads);
   aborted_ = false;
-  // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked once:
-  // hardware_concurrency reads a file.)
-  hungry_spins_ = threads > std::thread::hardware_concurrency() ? 0 : 1024;
+  // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked of the
+  // team, which asked hardware_concurrency once: it reads a file.)
+  hungry_spins_ = pool_->oversubscribed() ? 0 : 1024;
   double total_length = 0;
   for (const HalfedgeGeometry& g : mesh_.halfedges) total_length += g.length;
   band_width_ = kBandEdges * total_length / static_cast<double>(std::max<std::size_t>(1, mesh_.halfedges.size()));

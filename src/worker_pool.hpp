@@ -35,6 +35,8 @@ class WorkerPool {
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   unsigned threads() const { return static_cast<unsigned>(workers_.size()) + 1; }
+  // More threads than cores: a thread that waits should give its core up at once rather than spin.
+  bool oversubscribed() const { return spin_time_ == std::chrono::microseconds(0); }
 
   // Calls task(item, thread) for every item in [0, count), spread over the threads (thread 0 is the
   // caller), and returns when all are done. Which thread runs an item is left to chance: tasks must write
@@ -82,6 +84,21 @@ inline void pause_briefly() {
   std::this_thread::yield();
 #endif
 }
+
+}  // namespace worker_pool_detail
+
+// Spins (`spins` times at most), then yields, until `ready` holds.
+template <class Ready>
+void wait_until(Ready&& ready, int spins = 256) {
+  for (int spun = 0; !ready(); ++spun) {
+    if (spun < spins)
+      worker_pool_detail::pause_briefly();
+    else
+      std::this_thread::yield();
+  }
+}
+
+namespace worker_pool_detail {
 
 inline std::uint32_t batch_of(std::uint64_t next) { return static_cast<std::uint32_t>(next >> 32); }
 
@@ -167,12 +184,7 @@ inline void WorkerPool::run(std::size_t count, const std::function<void(std::siz
   publish(batch);
   take_items(0, batch);
   // Only items other threads are running are left: wait for them, yielding if that takes long.
-  for (int spins = 0; done_.load(std::memory_order_acquire) != count; ++spins) {
-    if (spins < 4096)
-      worker_pool_detail::pause_briefly();
-    else
-      std::this_thread::yield();
-  }
+  wait_until([&] { return done_.load(std::memory_order_acquire) == count; }, 4096);
   if (failed_) {
     failed_ = false;
     const std::exception_ptr failure = failure_;

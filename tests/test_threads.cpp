@@ -32,17 +32,9 @@ constexpr double kAgreement = 1e-14;
 // farther than the parallel bands' queue files vertices ahead, so the tip moves on through its last slot.
 exactgeo::MeshSoup grid_with_needle() {
   constexpr int kCells = 32;
-  exactgeo::MeshSoup soup;
-  for (int j = 0; j <= kCells; ++j)
-    for (int i = 0; i <= kCells; ++i) exactgeo_test::add_vertex(soup, {double(i), double(j), 0.0});
-  auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (kCells + 1) + i); };
-  for (int j = 0; j < kCells; ++j)
-    for (int i = 0; i < kCells; ++i) {
-      exactgeo_test::add_triangle(soup, at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      exactgeo_test::add_triangle(soup, at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
+  exactgeo::MeshSoup soup = exactgeo::make_grid(kCells, kCells, kCells, kCells);  // vertex (i, j) is j * 33 + i
   const std::uint32_t tip = exactgeo_test::add_vertex(soup, {kCells / 2 + 0.5, -4000.0, 0.0});
-  exactgeo_test::add_triangle(soup, at(kCells / 2 + 1, 0), at(kCells / 2, 0), tip);
+  exactgeo_test::add_triangle(soup, kCells / 2 + 1, kCells / 2, tip);  // on the edge (16, 0)-(17, 0)
   return soup;
 }
 
