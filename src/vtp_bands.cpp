@@ -300,7 +300,7 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   ++scratch.stats.parallel_crossings;
   scratch.deepest = std::max(scratch.deepest, scratch.depth);
   std::span<Window> incoming(taken.data, taken.size);
-  if (options_.rule23) {
+  if (worth_pruning(taken)) {
     const PhaseTimer timer(options_.collect_timings, scratch.stats.pruning_seconds);
     incoming = incoming.first(prune_list(incoming, tolerances_));
   }

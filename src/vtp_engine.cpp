@@ -543,9 +543,10 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
   deliver(next_halfedge(h), to_bc_, mesh_.head(h), prime);
 }
 
-// The list entering face(h), ready to cross it: with Rules 2 and 3 on, first pruned as a whole (prune_list).
+// The list entering face(h), ready to cross it: with Rules 2 and 3 on, first pruned as a whole (prune_list)
+// if it gathered several runs of windows (see worth_pruning).
 std::span<const Window> VtpEngine::list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats) {
-  if (options_.rule23) {
+  if (worth_pruning(lists_.record(h))) {
     const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
     lists_.shrink_to(h, prune_list(lists_.edit(h), tolerances_), thread);
   }

@@ -110,6 +110,11 @@ class VtpEngine {
   void prefetch_crossing(std::uint32_t h) const;
   void prefetch_destinations(std::uint32_t h) const;
   std::span<const Window> list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats);
+  // Rule 2 pays where a list gathered windows from several crossings (or pseudo-sources): their runs
+  // overlap, and a window is often beaten by one of another run. The windows of one crossing come from a
+  // list pruned before it crossed or from one run again, and walking them cost more than the few windows it
+  // removed saved (docs/performance.md): such a list crosses as it is.
+  bool worth_pruning(const WindowLists::List& list) const { return options_.rule23 && list.runs > 1; }
   std::uint64_t cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
                            std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
                            Arrival& at_apex) const;

@@ -54,10 +54,16 @@ class WindowLists {
 
   // Takes h's list away, leaving h empty, for work on it while other windows join h (several threads);
   // give_back returns its block once done.
-  struct List {  // a list's record: its block, and the windows in use at its start
+  struct List {  // a list's record (16 bytes): its block, the windows in use at its start, how they came
     Window* data = nullptr;
-    std::uint32_t size = 0, capacity = 0;
+    std::uint32_t size = 0;
+    std::uint8_t capacity_log2 = 0;  // the block holds 1 << capacity_log2 windows; 0: no block
+    // Runs of windows added since it was empty (each change that adds windows adds one: the windows of
+    // one crossing, or of one pseudo-source), counted up to 2.
+    std::uint8_t runs = 0;
+    std::uint32_t capacity() const { return capacity_log2 == 0 ? 0 : std::uint32_t{1} << capacity_log2; }
   };
+  const List& record(std::uint32_t h) const { return lists_[h]; }
   List take(std::uint32_t h) { return std::exchange(lists_[h], List{}); }
   void give_back(List taken, unsigned thread) {
     Allocator& a = allocators_[thread];
@@ -87,6 +93,7 @@ class WindowLists {
     Allocator& a = allocators_[thread];
     List& list = lists_[h];
     reserve(list, list.size + static_cast<std::uint32_t>(added), a);
+    if (added > 0) list.runs = list.size == 0 ? 1 : 2;
     list.size += static_cast<std::uint32_t>(added);
     a.live += static_cast<std::int64_t>(added);
     a.peak = std::max(a.peak, a.live);
@@ -132,13 +139,13 @@ class WindowLists {
   };
 
   void reserve(List& list, std::uint32_t needed, Allocator& a) {
-    if (needed <= list.capacity) return;
+    if (needed <= list.capacity()) return;
     const std::uint32_t capacity = std::max(kSmallestBlock, std::bit_ceil(needed));
     Window* data = allocate(capacity, a);
     std::copy(list.data, list.data + list.size, data);
-    const std::uint32_t size = list.size;
+    const List old = list;
     release(list, a);
-    list = {data, size, capacity};
+    list = {data, old.size, static_cast<std::uint8_t>(std::countr_zero(capacity)), old.runs};
   }
   static Window* allocate(std::uint32_t capacity, Allocator& a) {
     auto& blocks = a.free_blocks[std::countr_zero(capacity)];
@@ -170,7 +177,7 @@ class WindowLists {
     a.chunk_windows += size;
   }
   static void release(List& list, Allocator& a) {
-    if (list.capacity > 0) a.free_blocks[std::countr_zero(list.capacity)].push_back(list.data);
+    if (list.capacity_log2 > 0) a.free_blocks[list.capacity_log2].push_back(list.data);
     list = List{};
   }
 

@@ -1,6 +1,7 @@
 // The window lists (src/windows.hpp): every list keeps exactly its windows through growth, moves, frees and
-// reuse, whichever thread changes it, also with several threads changing different lists at once; the
-// count of live windows adds up; the order-preserving merge keeps a list ordered by start.
+// reuse, whichever thread changes it, also with several threads changing different lists at once; each
+// list's record counts the runs of windows added since it was empty; the count of live windows adds up;
+// the order-preserving merge keeps a list ordered by start.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,10 +24,18 @@ Window tagged(std::uint32_t list, std::uint32_t serial) {
   return Window{static_cast<double>(serial), static_cast<double>(serial) + 0.5, static_cast<double>(list), -1, 0, serial};
 }
 
+// A list's windows and the runs added since it was empty (counted up to 2), as WindowLists should have them.
+struct ModelList {
+  std::vector<Window> windows;
+  std::uint8_t runs = 0;
+};
+
 // One step of a seeded random sequence of changes to list h by `thread`, mirrored on `model`.
-void change_at_random(WindowLists& lists, std::vector<std::vector<Window>>& model, std::uint32_t h, unsigned thread,
+void change_at_random(WindowLists& lists, std::vector<ModelList>& model, std::uint32_t h, unsigned thread,
                       exactgeo_test::Random& random, std::uint32_t& serial) {
-  std::vector<Window>& expected = model[h];
+  std::vector<Window>& expected = model[h].windows;
+  // Every change below that adds windows adds one run (a list emptied by shrink_to keeps its count).
+  const std::uint8_t runs_after_adding = expected.empty() ? 1 : 2;
   // Mostly growth, now and then by a lot (past the largest chunk), so lists move between blocks of all sizes.
   const std::uint32_t count = random.below(50) == 0 ? 1 + random.below(70'000) : 1 + random.below(12);
   std::vector<Window> windows;
@@ -35,15 +44,18 @@ void change_at_random(WindowLists& lists, std::vector<std::vector<Window>>& mode
     case 0:
       lists.append(h, windows, thread);
       expected.insert(expected.end(), windows.begin(), windows.end());
+      model[h].runs = runs_after_adding;
       break;
     case 1:
       lists.prepend(h, windows, thread);
       expected.insert(expected.begin(), windows.begin(), windows.end());
+      model[h].runs = runs_after_adding;
       break;
     case 2: {
       const std::span<Window> list = lists.extend(h, windows.size(), thread);
       std::copy(windows.begin(), windows.end(), list.end() - static_cast<std::ptrdiff_t>(windows.size()));
       expected.insert(expected.end(), windows.begin(), windows.end());
+      model[h].runs = runs_after_adding;
       const std::size_t kept = random.below(expected.size() + 1);
       lists.shrink_to(h, kept, thread);
       expected.resize(kept);
@@ -53,9 +65,11 @@ void change_at_random(WindowLists& lists, std::vector<std::vector<Window>>& mode
       if (random.below(3) == 0) {
         lists.clear(h, thread);
         expected.clear();
+        model[h].runs = 0;
       } else {
         lists.append(h, windows, thread);
         expected.insert(expected.end(), windows.begin(), windows.end());
+        model[h].runs = runs_after_adding;
       }
   }
 }
@@ -71,20 +85,21 @@ TEST(WindowLists, EveryListKeepsItsWindowsWhicheverThreadChangesIt) {
   constexpr unsigned kThreads = 3;
   WindowLists lists;
   lists.reset(kLists, kThreads);
-  std::vector<std::vector<Window>> model(kLists);
+  std::vector<ModelList> model(kLists);
   exactgeo_test::Random random(11);
   std::uint32_t serial = 0;
   std::size_t peak = 0;
   for (int step = 0; step < 6'000; ++step) {
     const std::uint32_t h = random.below(kLists);
     change_at_random(lists, model, h, random.below(kThreads), random, serial);
-    ASSERT_TRUE(same_windows(lists.view(h), model[h])) << "list " << h << " after step " << step;
-    ASSERT_EQ(lists.empty(h), model[h].empty());
+    ASSERT_TRUE(same_windows(lists.view(h), model[h].windows)) << "list " << h << " after step " << step;
+    ASSERT_EQ(lists.empty(h), model[h].windows.empty());
+    ASSERT_EQ(lists.record(h).runs, model[h].runs) << "list " << h << " after step " << step;
     if (step % 100 == 0) {
       // Changing one list leaves the others as they were.
-      for (std::uint32_t g = 0; g < kLists; ++g) ASSERT_TRUE(same_windows(lists.view(g), model[g])) << "list " << g;
+      for (std::uint32_t g = 0; g < kLists; ++g) ASSERT_TRUE(same_windows(lists.view(g), model[g].windows)) << "list " << g;
       std::size_t live = 0;
-      for (const auto& windows : model) live += windows.size();
+      for (const ModelList& list : model) live += list.windows.size();
       peak = std::max(peak, live);
       lists.note_peak();
       ASSERT_EQ(lists.peak_live(), peak) << "step " << step;
@@ -100,7 +115,7 @@ TEST(WindowLists, ThreadsChangingDifferentListsAtOnceKeepEachListsWindows) {
   constexpr unsigned kThreads = 4;
   WindowLists lists;
   lists.reset(kLists, kThreads);
-  std::vector<std::vector<Window>> model(kLists);
+  std::vector<ModelList> model(kLists);
   for (int rounds = 0; rounds < 4; ++rounds) {
     // Round r: thread t owns the lists h with (h + r) % kThreads == t, so ownership moves every round.
     std::vector<std::jthread> team;
@@ -115,8 +130,31 @@ TEST(WindowLists, ThreadsChangingDifferentListsAtOnceKeepEachListsWindows) {
       });
     }
     team.clear();  // joins
-    for (std::uint32_t h = 0; h < kLists; ++h) ASSERT_TRUE(same_windows(lists.view(h), model[h])) << "list " << h;
+    for (std::uint32_t h = 0; h < kLists; ++h) {
+      ASSERT_TRUE(same_windows(lists.view(h), model[h].windows)) << "list " << h;
+      ASSERT_EQ(lists.record(h).runs, model[h].runs) << "list " << h;
+    }
   }
+}
+
+// The parallel bands take a list off its edge to cross it: the record taken says how many runs it held, and
+// the edge starts again from none.
+TEST(WindowLists, TakingAListTakesItsRunsAndLeavesTheEdgeEmpty) {
+  WindowLists lists;
+  lists.reset(2, 1);
+  const Window first[] = {tagged(0, 1), tagged(0, 2)}, second[] = {tagged(0, 3)};
+  lists.append(0, first, 0);
+  EXPECT_EQ(lists.record(0).runs, 1);
+  lists.prepend(0, second, 0);
+  const WindowLists::List taken = lists.take(0);
+  EXPECT_EQ(taken.runs, 2);
+  EXPECT_EQ(taken.size, 3u);
+  EXPECT_TRUE(lists.empty(0));
+  EXPECT_EQ(lists.record(0).runs, 0);
+  lists.give_back(taken, 0);
+  lists.append(0, second, 0);
+  EXPECT_EQ(lists.record(0).runs, 1);
+  EXPECT_TRUE(same_windows(lists.view(0), {second[0]}));
 }
 
 // Order-preserving SecondMerge: windows are inserted by the start of their interval.
