@@ -415,7 +415,7 @@ void choose_scale(SurfaceMesh& s, const std::vector<std::uint32_t>& input_vertex
 
 }  // namespace
 
-double SurfaceMesh::to_input_length(double engine_length) const {
+double SurfaceMesh::to_input_length_scaled(double engine_length) const {
   const double length = std::ldexp(engine_length, -scale_exponent);
   if (std::isinf(length) && !std::isinf(engine_length)) {
     char text[256];

@@ -44,8 +44,12 @@ struct SurfaceMesh {
     return {std::ldexp(p[0], scale_exponent), std::ldexp(p[1], scale_exponent), std::ldexp(p[2], scale_exponent)};
   }
   double to_engine_length(double input_length) const { return std::ldexp(input_length, scale_exponent); }
-  // Throws Error(invalid_mesh) if the length exceeds the largest double once scaled back.
-  double to_input_length(double engine_length) const;
+  // Throws Error(invalid_mesh) if the length exceeds the largest double once scaled back. Inline for the
+  // ordinary scale, where nothing changes: it runs once per vertex of every result.
+  double to_input_length(double engine_length) const {
+    return scale_exponent == 0 ? engine_length : to_input_length_scaled(engine_length);
+  }
+  double to_input_length_scaled(double engine_length) const;
 
   // Surface vertices: input vertices, split where non-manifold.
   std::uint32_t vertex_count = 0;
