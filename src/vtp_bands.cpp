@@ -51,7 +51,6 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   if (!pool_ || pool_->threads() != threads) pool_ = std::make_unique<WorkerPool>(threads);
   scratch_.assign(threads, ThreadScratch{});
   face_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.face_count());
-  list_states_ = std::make_unique<ListState[]>(mesh_.halfedges.size());
   vertex_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.vertex_count);
   crossing_queues_ = std::make_unique<CrossingQueue[]>(threads);
   aborted_ = false;
@@ -139,10 +138,6 @@ void VtpEngine::propagate_band() {
   // Lists scheduled before the first band (by a source inside a face), and emissions of sources, on one
   // thread as the sequential engine would.
   while (!emit_queue_.empty()) emit_lowered_pseudo_source();
-  for (const std::uint32_t h : pending_) {
-    scheduled_[h] = 0;
-    list_states_[h].scheduled = 1;
-  }
   const unsigned threads = pool_->threads();
   for (unsigned t = 0; t < threads; ++t) {  // each ended the last band hungry and unfed
     crossing_queues_[t].hungry.store(false, std::memory_order_relaxed);
@@ -288,12 +283,9 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   ThreadScratch& scratch = scratch_[thread];
   WindowLists::List taken;
   {
-    ListState& edge = list_states_[h];
     const SpinGuard guard(face_locks_[face_of(h)]);
-    edge.scheduled = 0;
-    scratch.depth = std::max<std::uint16_t>(edge.depth, 1);
-    edge.depth = 0;
-    taken = lists_.take(h);
+    taken = lists_.take(h);  // no longer scheduled, its depth back to 0
+    scratch.depth = std::max<std::uint16_t>(taken.depth, 1);
   }
   if (taken.size == 0) return;
   prefetch_destinations(h);
@@ -373,7 +365,7 @@ void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windo
 // schedule, with the lock of h's face held: into this thread's queue. The list's depth is one more than the
 // crossing's that reached it (saturating: only a statistic).
 void VtpEngine::schedule_locked(std::uint32_t h, unsigned thread) {
-  ListState& edge = list_states_[h];
+  WindowLists::List& edge = lists_.record(h);
   const std::uint16_t depth = scratch_[thread].depth;
   edge.depth = std::max<std::uint16_t>(edge.depth, depth == UINT16_MAX ? depth : static_cast<std::uint16_t>(depth + 1));
   if (edge.scheduled) return;

@@ -121,7 +121,6 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   emit_scheduled_.assign(n, 0);
   source_label_.assign(n, kNone);
   face_visited_at_.assign(mesh_.face_count(), kNone);
-  scheduled_.assign(mesh_.halfedges.size(), 0);
   vertex_queue_.reset(face_sorted_ ? 0 : n);
   face_queue_.reset(face_sorted_ ? mesh_.face_count() : 0);
   faces_to_join_.clear();
@@ -353,8 +352,9 @@ void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
 }
 
 void VtpEngine::schedule(std::uint32_t h) {
-  if (scheduled_[h]) return;
-  scheduled_[h] = 1;
+  WindowLists::List& list = lists_.record(h);
+  if (list.scheduled) return;
+  list.scheduled = 1;
   pending_.push_back(h);
 }
 
@@ -461,7 +461,7 @@ void VtpEngine::drain() {
       pending_.clear();
       pending_front_ = 0;
     }
-    scheduled_[h] = 0;
+    lists_.record(h).scheduled = 0;
     cross(h);
   }
 }

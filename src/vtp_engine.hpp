@@ -152,7 +152,7 @@ class VtpEngine {
   std::vector<Arrival> arrival_;
   std::vector<std::uint32_t> source_label_, face_visited_at_;
   std::vector<VertexState> state_;
-  std::vector<std::uint8_t> scheduled_, emit_scheduled_;
+  std::vector<std::uint8_t> emit_scheduled_;
   std::uint32_t iteration_ = 0;
   bool face_sorted_ = false, order_preserving_ = false;
   WindowLists lists_;
@@ -170,10 +170,6 @@ class VtpEngine {
   // Parallel propagation (options_.threads > 1, vertex-sorted; vtp_bands.cpp): the wavefront advances by
   // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
   // lists that sets moving, the lists of each face and each vertex changed under a lock of their own.
-  struct ListState {  // per halfedge, guarded by its face's lock like the list itself
-    std::uint8_t scheduled = 0;  // in a thread's queue
-    std::uint16_t depth = 0;     // the longest chain of crossings of the band that reached the list so far
-  };
   // The lists a thread scheduled, crossed first in first out by that thread alone. A thread that runs out
   // says it is hungry; the next thread to notice hands it half of its own lists through its inbox.
   struct alignas(64) CrossingQueue {
@@ -209,7 +205,6 @@ class VtpEngine {
   std::vector<std::uint32_t> band_;  // the vertices a band moves inside
   // One lock per face guards the lists of its three halfedges (entering a face takes one lock, not three).
   std::unique_ptr<std::atomic<std::uint8_t>[]> face_locks_;
-  std::unique_ptr<ListState[]> list_states_;
   std::unique_ptr<std::atomic<std::uint8_t>[]> vertex_locks_;
   std::unique_ptr<CrossingQueue[]> crossing_queues_;
   // Who works on the band: the threads that joined it (high half), those of them hungry (low half), and

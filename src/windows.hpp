@@ -52,18 +52,25 @@ class WindowLists {
   void prefetch_record(std::uint32_t h) const { prefetch(&lists_[h]); }
   void prefetch_windows(std::uint32_t h) const { prefetch(lists_[h].data); }
 
-  // Takes h's list away, leaving h empty, for work on it while other windows join h (several threads);
-  // give_back returns its block once done.
-  struct List {  // a list's record (16 bytes): its block, the windows in use at its start, how they came
+  // A list's record, 16 bytes (one per halfedge: the largest per-run array): its block, the windows in use
+  // at its start, how they came, and the engine's marks for its next crossing, kept here so that scheduling a
+  // list reads no other record. Emptying the list clears the marks too.
+  struct List {
     Window* data = nullptr;
     std::uint32_t size = 0;
-    std::uint8_t capacity_log2 = 0;  // the block holds 1 << capacity_log2 windows; 0: no block
+    std::uint8_t capacity_log2 : 5 = 0;  // the block holds 1 << capacity_log2 windows; 0: no block
     // Runs of windows added since it was empty (each change that adds windows adds one: the windows of
     // one crossing, or of one pseudo-source), counted up to 2.
-    std::uint8_t runs = 0;
+    std::uint8_t runs : 2 = 0;
+    std::uint8_t scheduled : 1 = 0;  // waiting in a queue to cross
+    std::uint16_t depth = 0;         // parallel bands: the longest chain of the band's crossings that reached it
     std::uint32_t capacity() const { return capacity_log2 == 0 ? 0 : std::uint32_t{1} << capacity_log2; }
   };
+  static_assert(sizeof(List) == 16);
+  List& record(std::uint32_t h) { return lists_[h]; }
   const List& record(std::uint32_t h) const { return lists_[h]; }
+  // Takes h's list away, leaving h empty, for work on it while other windows join h (several threads);
+  // give_back returns its block once done.
   List take(std::uint32_t h) { return std::exchange(lists_[h], List{}); }
   void give_back(List taken, unsigned thread) {
     Allocator& a = allocators_[thread];
@@ -143,9 +150,9 @@ class WindowLists {
     const std::uint32_t capacity = std::max(kSmallestBlock, std::bit_ceil(needed));
     Window* data = allocate(capacity, a);
     std::copy(list.data, list.data + list.size, data);
-    const List old = list;
-    release(list, a);
-    list = {data, old.size, static_cast<std::uint8_t>(std::countr_zero(capacity)), old.runs};
+    free_block(list, a);
+    list.data = data;
+    list.capacity_log2 = static_cast<std::uint8_t>(std::countr_zero(capacity)) & 31;
   }
   static Window* allocate(std::uint32_t capacity, Allocator& a) {
     auto& blocks = a.free_blocks[std::countr_zero(capacity)];
@@ -176,8 +183,11 @@ class WindowLists {
     a.rest_size = size;
     a.chunk_windows += size;
   }
-  static void release(List& list, Allocator& a) {
+  static void free_block(const List& list, Allocator& a) {
     if (list.capacity_log2 > 0) a.free_blocks[list.capacity_log2].push_back(list.data);
+  }
+  static void release(List& list, Allocator& a) {
+    free_block(list, a);
     list = List{};
   }
 
