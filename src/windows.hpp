@@ -72,10 +72,10 @@ class WindowLists {
   // Takes h's list away, leaving h empty, for work on it while other windows join h (several threads);
   // give_back returns its block once done.
   List take(std::uint32_t h) { return std::exchange(lists_[h], List{}); }
-  void give_back(List taken, unsigned thread) {
+  void give_back(const List& taken, unsigned thread) {
     Allocator& a = allocators_[thread];
     a.live -= taken.size;
-    release(taken, a);
+    free_block(taken, a);
   }
 
   // Empties h's list, giving its block back for reuse.
