@@ -273,6 +273,7 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
   std::vector<double> angle_sum(s.vertex_count, 0.0);
   std::vector<std::uint8_t> on_boundary(s.vertex_count, 0);
   std::vector<std::uint8_t> near_degenerate(s.vertex_count, 0);
+  double total_length = 0;
   for (std::uint32_t f = 0; f < face_count; ++f) {
     const std::array<Vec3, 3> corner = {s.position(input_vertex_of_corner[3 * f]),
                                         s.position(input_vertex_of_corner[3 * f + 1]),
@@ -283,6 +284,7 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
       const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
       const double length = norm(ab);
       longest = std::max(longest, length);
+      total_length += length;
       HalfedgeGeometry& g = s.halfedges[3 * f + i];
       g.length = length;
       if (length > 0) {
@@ -304,6 +306,7 @@ void compute_geometry(SurfaceMesh& s, const std::vector<std::uint32_t>& input_ve
       if (degenerate) near_degenerate[v] = 1;
     }
   }
+  s.mean_edge_length = total_length / std::max(1.0, 3.0 * face_count);
   for (std::uint32_t h = 0; h < s.twin.size(); ++h) {
     if (s.twin[h] != kNone) continue;
     on_boundary[s.tail(h)] = 1;

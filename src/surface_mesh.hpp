@@ -87,6 +87,7 @@ struct SurfaceMesh {
   std::vector<std::uint8_t> fan_angles_reliable;    // per vertex
 
   double length_scale = 1.0;  // bounding-box diagonal of the used vertices (in the engine's frame)
+  double mean_edge_length = 0;  // over the halfedges (each inner edge counted twice)
 
   // Surface vertices that carry input vertex v's distance (none if v is used by no face).
   std::span<const std::uint32_t> copies_of(std::uint32_t input_vertex) const {

@@ -28,6 +28,7 @@
 #include <atomic>
 #include <mutex>
 
+#include "assert.hpp"
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
 #include "vtp_engine.hpp"
@@ -48,7 +49,7 @@ constexpr std::uint64_t joined_count(std::uint64_t state) { return (state & ~kBa
 }  // namespace
 
 void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
-  if (!pool_ || pool_->threads() != threads) pool_ = std::make_unique<WorkerPool>(threads);
+  EXACTGEO_ASSERT(pool_ && pool_->threads() == threads);  // made by run, which clears the lists with it
   scratch_.assign(threads, ThreadScratch{});
   face_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.face_count());
   vertex_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.vertex_count);
@@ -57,9 +58,7 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked of the
   // team, which asked hardware_concurrency once: it reads a file.)
   hungry_spins_ = pool_->oversubscribed() ? 0 : 1024;
-  double total_length = 0;
-  for (const HalfedgeGeometry& g : mesh_.halfedges) total_length += g.length;
-  band_width_ = kBandEdges * total_length / static_cast<double>(std::max<std::size_t>(1, mesh_.halfedges.size()));
+  band_width_ = kBandEdges * mesh_.mean_edge_length;
   if (!(band_width_ > 0)) band_width_ = 1;  // every edge of length 0: every distance is 0
 
   for (ThreadScratch& s : scratch_) s.queued_by_band.resize(kBandSlots);

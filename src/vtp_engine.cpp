@@ -133,7 +133,11 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   iteration_ = 0;
   register_targets(targets);
   const unsigned threads = face_sorted_ ? 1 : threads_or_cores(options.threads);
-  lists_.reset(mesh_.halfedges.size(), threads);
+  if (threads > 1 && (!pool_ || pool_->threads() != threads)) pool_ = std::make_unique<WorkerPool>(threads);
+  lists_.reset(mesh_.halfedges.size(), threads, [&](std::size_t count, const auto& clear) {
+    if (threads == 1) return clear(0, count);
+    pool_->run(threads, [&](std::size_t part, unsigned) { clear(count * part / threads, count * (part + 1) / threads); });
+  });
 
   for (std::uint32_t i = 0; i < sources_.size(); ++i) {
     const std::uint32_t v = sources_[i].point.vertex;

@@ -35,8 +35,19 @@ struct Window {
 // then serves that thread's next allocations.
 class WindowLists {
  public:
-  void reset(std::size_t halfedge_count, unsigned threads) {
-    lists_.assign(halfedge_count, List{});
+  // Makes every list empty, for a run on `threads` threads. for_parts(count, clear) is to call clear(begin,
+  // end) on parts covering [0, count), on several threads if the run has them: a large mesh's records are
+  // megabytes of fresh pages, and touching them is most of a run's set-up (half of it on two threads).
+  template <class ForParts>
+  void reset(std::size_t halfedge_count, unsigned threads, ForParts&& for_parts) {
+    if (halfedge_count > record_capacity_) {
+      lists_.reset();  // the old block goes first: a larger one may take its place
+      lists_ = {std::allocator<List>().allocate(halfedge_count), FreeRecords{halfedge_count}};
+      record_capacity_ = halfedge_count;
+    }
+    for_parts(halfedge_count, [this](std::size_t begin, std::size_t end) {
+      std::uninitialized_fill(lists_.get() + begin, lists_.get() + end, List{});
+    });
     allocators_.clear();
     allocators_.resize(threads);
     peak_sum_ = 0;
@@ -191,7 +202,14 @@ class WindowLists {
     list = List{};
   }
 
-  std::vector<List> lists_;
+  // The records, allocated untouched for reset to fill in parts (filling the storage starts the records'
+  // lifetimes; they are trivially destructible). Kept across runs, and replaced only by a larger mesh's.
+  struct FreeRecords {
+    std::size_t count;  // without a default initialiser, so that unique_ptr can default-construct it here
+    void operator()(List* records) const { std::allocator<List>().deallocate(records, count); }
+  };
+  std::unique_ptr<List[], FreeRecords> lists_;
+  std::size_t record_capacity_ = 0;
   std::vector<Allocator> allocators_;
   std::int64_t peak_sum_ = 0;
 };

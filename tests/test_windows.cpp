@@ -24,6 +24,11 @@ Window tagged(std::uint32_t list, std::uint32_t serial) {
   return Window{static_cast<double>(serial), static_cast<double>(serial) + 0.5, static_cast<double>(list), -1, 0, serial};
 }
 
+// Clears the records in one part, as a one-thread run does.
+void reset_lists(WindowLists& lists, std::size_t count, unsigned threads) {
+  lists.reset(count, threads, [](std::size_t n, const auto& clear) { clear(0, n); });
+}
+
 // A list's windows and the runs added since it was empty (counted up to 2), as WindowLists should have them.
 struct ModelList {
   std::vector<Window> windows;
@@ -84,7 +89,7 @@ TEST(WindowLists, EveryListKeepsItsWindowsWhicheverThreadChangesIt) {
   constexpr std::uint32_t kLists = 300;
   constexpr unsigned kThreads = 3;
   WindowLists lists;
-  lists.reset(kLists, kThreads);
+  reset_lists(lists, kLists, kThreads);
   std::vector<ModelList> model(kLists);
   exactgeo_test::Random random(11);
   std::uint32_t serial = 0;
@@ -114,7 +119,7 @@ TEST(WindowLists, ThreadsChangingDifferentListsAtOnceKeepEachListsWindows) {
   constexpr std::uint32_t kLists = 400;
   constexpr unsigned kThreads = 4;
   WindowLists lists;
-  lists.reset(kLists, kThreads);
+  reset_lists(lists, kLists, kThreads);
   std::vector<ModelList> model(kLists);
   for (int rounds = 0; rounds < 4; ++rounds) {
     // Round r: thread t owns the lists h with (h + r) % kThreads == t, so ownership moves every round.
@@ -141,7 +146,7 @@ TEST(WindowLists, ThreadsChangingDifferentListsAtOnceKeepEachListsWindows) {
 // the edge starts again from none.
 TEST(WindowLists, TakingAListTakesItsRunsAndLeavesTheEdgeEmpty) {
   WindowLists lists;
-  lists.reset(2, 1);
+  reset_lists(lists, 2, 1);
   const Window first[] = {tagged(0, 1), tagged(0, 2)}, second[] = {tagged(0, 3)};
   lists.append(0, first, 0);
   EXPECT_EQ(lists.record(0).runs, 1);
@@ -157,10 +162,40 @@ TEST(WindowLists, TakingAListTakesItsRunsAndLeavesTheEdgeEmpty) {
   EXPECT_TRUE(same_windows(lists.view(0), {second[0]}));
 }
 
+// A run on several threads clears the records in parts, one per thread: every list starts empty, unmarked
+// and without runs, whatever the run before left, also when the next mesh is larger (new records) or
+// smaller (the old ones reused).
+TEST(WindowLists, ResetInPartsOnSeveralThreadsEmptiesEveryList) {
+  WindowLists lists;
+  exactgeo_test::Random random(5);
+  for (const std::uint32_t count : {50u, 2'000u, 700u, 2'000u}) {
+    constexpr unsigned kThreads = 3;
+    lists.reset(count, kThreads, [](std::size_t n, const auto& clear) {
+      std::vector<std::jthread> team;
+      for (unsigned part = kThreads; part-- > 0;) team.emplace_back([&, part] { clear(n * part / kThreads, n * (part + 1) / kThreads); });
+    });
+    for (std::uint32_t h = 0; h < count; ++h) {
+      const WindowLists::List& record = lists.record(h);
+      ASSERT_TRUE(record.size == 0 && record.capacity() == 0 && record.runs == 0 && record.scheduled == 0 &&
+                  record.depth == 0 && record.data == nullptr)
+          << "list " << h << " of " << count;
+    }
+    // Leave every list holding windows and marks for the next reset to clear.
+    std::uint32_t serial = 0;
+    for (std::uint32_t h = 0; h < count; ++h) {
+      const Window windows[] = {tagged(h, serial++), tagged(h, serial++)};
+      lists.append(h, windows, random.below(kThreads));
+      lists.record(h).scheduled = 1;
+      lists.record(h).depth = 7;
+      ASSERT_TRUE(same_windows(lists.view(h), {windows[0], windows[1]})) << "list " << h;
+    }
+  }
+}
+
 // Order-preserving SecondMerge: windows are inserted by the start of their interval.
 TEST(WindowLists, InsertInOrderKeepsTheListOrderedByStart) {
   WindowLists lists;
-  lists.reset(2, 1);
+  reset_lists(lists, 2, 1);
   const auto window = [](double b0, std::uint32_t tag) { return Window{b0, b0 + 0.5, 0, -1, 0, tag}; };
   const std::vector<Window> existing = {window(0.0, 0), window(1.0, 1), window(2.0, 2)};
   lists.append(1, existing, 0);
