@@ -171,7 +171,8 @@ class VtpEngine {
   // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
   // lists that sets moving, the lists of each face and each vertex changed under a lock of their own.
   // The lists a thread scheduled, crossed first in first out by that thread alone. A thread that runs out
-  // says it is hungry; the next thread to notice hands it half of its own lists through its inbox.
+  // says it is hungry; the next thread to notice hands it the older half of its own lists through its
+  // inbox.
   struct alignas(64) CrossingQueue {
     std::vector<std::uint32_t> items;
     std::size_t front = 0;
