@@ -170,12 +170,13 @@ class VtpEngine {
   // Parallel propagation (options_.threads > 1, vertex-sorted; vtp_bands.cpp): the wavefront advances by
   // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
   // lists that sets moving, the lists of each face and each vertex changed under a lock of their own.
-  // The lists a thread scheduled, crossed first in first out by that thread alone. A thread that runs out
-  // says it is hungry; the next thread to notice hands it the older half of its own lists through its
-  // inbox.
+  // The lists a thread scheduled, crossed last in first out by that thread alone: the newest lie where it
+  // just worked, still in its cache (on one thread the order gains nothing: docs/performance.md). A thread
+  // that runs out says it is hungry; the next thread to notice hands it the older half of its own lists
+  // (items[front, ...)) through its inbox.
   struct alignas(64) CrossingQueue {
     std::vector<std::uint32_t> items;
-    std::size_t front = 0;
+    std::size_t front = 0;  // the lists before it were handed to hungry threads
     std::atomic<bool> hungry{false};
     std::atomic<bool> fed{false};  // the inbox holds lists
     std::atomic<bool> share_taken{false};  // the band's share of vertices of the same number as the thread
