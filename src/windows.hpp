@@ -40,10 +40,9 @@ class WindowLists {
   // megabytes of fresh pages, and touching them is most of a run's set-up (half of it on two threads).
   template <class ForParts>
   void reset(std::size_t halfedge_count, unsigned threads, ForParts&& for_parts) {
-    if (halfedge_count > record_capacity_) {
+    if (halfedge_count > lists_.get_deleter().count) {
       lists_.reset();  // the old block goes first: a larger one may take its place
       lists_ = {std::allocator<List>().allocate(halfedge_count), FreeRecords{halfedge_count}};
-      record_capacity_ = halfedge_count;
     }
     for_parts(halfedge_count, [this](std::size_t begin, std::size_t end) {
       std::uninitialized_fill(lists_.get() + begin, lists_.get() + end, List{});
@@ -203,13 +202,13 @@ class WindowLists {
   }
 
   // The records, allocated untouched for reset to fill in parts (filling the storage starts the records'
-  // lifetimes; they are trivially destructible). Kept across runs, and replaced only by a larger mesh's.
+  // lifetimes; they are trivially destructible). Kept across runs, and replaced only by a larger mesh's:
+  // the deleter's count is the capacity.
   struct FreeRecords {
     std::size_t count;  // without a default initialiser, so that unique_ptr can default-construct it here
     void operator()(List* records) const { std::allocator<List>().deallocate(records, count); }
   };
   std::unique_ptr<List[], FreeRecords> lists_;
-  std::size_t record_capacity_ = 0;
   std::vector<Allocator> allocators_;
   std::int64_t peak_sum_ = 0;
 };
