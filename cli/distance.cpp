@@ -1,6 +1,7 @@
 // exactgeo distance: geodesic distance from sources to every vertex (and to targets), written per vertex and
 // per target, with statistics as JSON and a summary on stdout.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -69,7 +70,7 @@ void warn_if_seams_cut_the_surface(const DistanceArguments& arguments, const exa
 nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const LoadedMesh& loaded,
                                   const Sources& sources, std::size_t targets,
                                   const exactgeo::GeodesicOptions& options, const exactgeo::GeodesicStats& stats,
-                                  const Reach& reach) {
+                                  const Reach& reach, double write_seconds) {
   nlohmann::ordered_json json;
   json["mesh"] = arguments.mesh.name;
   json["vertices"] = loaded.mesh.vertex_count();
@@ -86,7 +87,10 @@ nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const Load
   json["threads"] = options.threads;
   json["read_seconds"] = loaded.read_seconds;
   json["build_seconds"] = loaded.build_seconds;
+  json["build_threads"] = loaded.mesh.build_stats().threads;
+  json["build_timings"] = build_timings_json(loaded.mesh.build_stats());
   json.update(stats_json(stats, arguments.timers));
+  json["write_seconds"] = write_seconds;
   json["max_distance"] = reach.max_distance;
   json["unreachable"] = reach.unreachable;
   json["mesh_report"] = report_json(loaded.mesh.report());
@@ -132,7 +136,15 @@ Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const
   if (!std::isinf(arguments.max_distance)) rows.emplace_back("cut-off", format_number("%.12g", arguments.max_distance));
   rows.emplace_back("max distance", format_number("%.12g", reach.max_distance));
   rows.emplace_back(cut_off ? "unreachable or beyond" : "unreachable", std::to_string(reach.unreachable));
+  rows.emplace_back("read", format_number("%.4f s", loaded.read_seconds));
   rows.emplace_back("build", format_number("%.4f s", loaded.build_seconds));
+  if (arguments.timers)
+    exactgeo::for_each_build_stats_field([&](std::string_view name, auto member, const char*) {
+      if (!name.ends_with("_seconds")) return;
+      std::string label(name.substr(0, name.size() - std::string_view("_seconds").size()));
+      std::replace(label.begin(), label.end(), '_', ' ');
+      rows.emplace_back("  " + label, format_number("%.4f s", double(loaded.mesh.build_stats().*member)));
+    });
   append_stats_rows(rows, result.stats, arguments.timers);
   if (arguments.target_out.empty())
     for (std::size_t t = 0; t < targets; ++t) {
@@ -144,7 +156,7 @@ Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const
 }
 
 int run_distance(const DistanceArguments& arguments) {
-  const LoadedMesh loaded = load_mesh(arguments.mesh);
+  const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const Sources sources = read_sources(arguments.sources, mesh);
   const std::vector<exactgeo::SurfacePoint> targets =
@@ -179,14 +191,17 @@ int run_distance(const DistanceArguments& arguments) {
   const auto labels_if_asked = [&](const std::vector<std::uint32_t>& labels) {
     return arguments.labels ? std::span<const std::uint32_t>(labels) : std::span<const std::uint32_t>();
   };
+  const auto write_start = std::chrono::steady_clock::now();
   if (!arguments.out.empty())
     write_values(arguments.out, kVertexValueFormats,
                  {result.distances, labels_if_asked(result.nearest_source), "vertex", &mesh});
   if (!arguments.target_out.empty())
     write_values(arguments.target_out, kTargetValueFormats,
                  {result.target_distances, labels_if_asked(result.target_nearest_source), "target", nullptr});
+  const double write_seconds = seconds_since(write_start);
   if (!arguments.stats.empty())
-    write_json(arguments.stats, stats_file(arguments, loaded, sources, targets.size(), options, result.stats, reach));
+    write_json(arguments.stats, stats_file(arguments, loaded, sources, targets.size(), options, result.stats, reach,
+                                           write_seconds));
   // The summary goes to stdout only when no output does.
   if (arguments.out.empty() && arguments.target_out != kStdout)
     print_table(summary(arguments, loaded, options, result, targets.size(), reach));

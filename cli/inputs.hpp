@@ -44,9 +44,10 @@ CLI::Option* add_list_option(CLI::App& command, MeshArguments& mesh, const std::
 struct LoadedMesh {
   exactgeo::Mesh mesh;
   double read_seconds;   // reading the file or generating the shape
-  double build_seconds;  // read_seconds plus validating and building the Mesh
+  double build_seconds;  // validating and building the Mesh, after the read
 };
-LoadedMesh load_mesh(const MeshArguments& arguments);
+// Read and built on `threads` threads (0: one per core), the command's --threads.
+LoadedMesh load_mesh(const MeshArguments& arguments, const std::optional<unsigned>& threads = {});
 
 // --source and --source-point, at least one of them.
 struct SourceArguments {

@@ -53,7 +53,7 @@ int print_store_status(const std::string& store) {
 
 int run_matrix(const MatrixArguments& arguments) {
   if (!arguments.status.empty()) return print_store_status(arguments.status);
-  const LoadedMesh loaded = load_mesh(arguments.mesh);
+  const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const std::vector<std::uint32_t> sources = parse_vertex_list(arguments.sources, "--sources");
   exactgeo::MatrixOptions options;

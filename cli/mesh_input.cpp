@@ -128,13 +128,14 @@ CLI::Option* add_list_option(CLI::App& command, MeshArguments& mesh, const std::
   return option;
 }
 
-LoadedMesh load_mesh(const MeshArguments& arguments) {
+LoadedMesh load_mesh(const MeshArguments& arguments, const std::optional<unsigned>& threads) {
   const auto start = std::chrono::steady_clock::now();
   const std::optional<BuiltinMesh> builtin = parse_builtin_mesh(arguments.name);
-  const exactgeo::MeshSoup soup = builtin ? generate_builtin_mesh(*builtin) : exactgeo::read_mesh_soup(arguments.name);
+  exactgeo::MeshSoup soup = builtin ? generate_builtin_mesh(*builtin) : exactgeo::read_mesh_soup(arguments.name);
   const double read_seconds = seconds_since(start);
-  exactgeo::Mesh mesh(soup, exactgeo::MeshOptions{.weld_duplicate_positions = arguments.weld});
-  return {std::move(mesh), read_seconds, seconds_since(start)};
+  const auto build_start = std::chrono::steady_clock::now();
+  exactgeo::Mesh mesh(std::move(soup), {.weld_duplicate_positions = arguments.weld, .threads = threads.value_or(0)});
+  return {std::move(mesh), read_seconds, seconds_since(build_start)};
 }
 
 }  // namespace exactgeo::cli

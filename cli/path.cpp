@@ -19,7 +19,7 @@ struct PathArguments {
 };
 
 int run_path(const PathArguments& arguments) {
-  const LoadedMesh loaded = load_mesh(arguments.mesh);
+  const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const Sources sources = read_sources(arguments.sources, mesh);
   const std::vector<exactgeo::SurfacePoint> targets = parse_targets(arguments.target, mesh, "--target");

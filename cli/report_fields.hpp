@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <string_view>
 
 #include "exactgeo/exactgeo.hpp"
 #include "outputs.hpp"
@@ -24,6 +25,16 @@ inline nlohmann::ordered_json stats_json(const exactgeo::GeodesicStats& stats, b
 inline nlohmann::ordered_json report_json(const exactgeo::MeshReport& report) {
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
   exactgeo::for_each_report_field([&](const char* name, auto member, const char*) { json[name] = report.*member; });
+  return json;
+}
+
+// The build's steps (for_each_build_stats_field), seconds each; the total and the thread count are
+// reported beside them as build_seconds and build_threads.
+inline nlohmann::ordered_json build_timings_json(const exactgeo::MeshBuildStats& stats) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  exactgeo::for_each_build_stats_field([&](std::string_view name, auto member, const char*) {
+    if (name.ends_with("_seconds")) json[std::string(name)] = stats.*member;
+  });
   return json;
 }
 

@@ -1,5 +1,6 @@
 // Public entry points for reading mesh files, and the helpers the per-format readers share.
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -10,6 +11,9 @@
 #include <filesystem>
 #include <memory>
 #include <system_error>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 
 #include "exactgeo/error.hpp"
@@ -100,14 +104,40 @@ void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_
   }
 }
 
+std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, const ParallelTeam& team,
+                                     std::size_t min_chunk_bytes) {
+  const std::size_t size = bytes.size() - std::min(begin, bytes.size());
+  const std::size_t wanted = std::clamp<std::size_t>(size / std::max<std::size_t>(min_chunk_bytes, 1), 1,
+                                                     std::max<std::size_t>(1, team.range_count(size, min_chunk_bytes)));
+  std::vector<std::size_t> bounds = {begin};
+  // A line starts after an LF, or after a CR that no LF follows (a CRLF is never cut in two).
+  const auto starts_line = [&](std::size_t at) {
+    return bytes[at - 1] == '\n' || (bytes[at - 1] == '\r' && bytes[at] != '\n');
+  };
+  for (std::size_t k = 1; k < wanted; ++k) {
+    std::size_t at = std::max(begin + size * k / wanted, bounds.back() + 1);
+    while (at < bytes.size() && !starts_line(at)) ++at;
+    if (at >= bytes.size()) break;
+    bounds.push_back(at);
+  }
+  bounds.push_back(bytes.size());
+  return bounds;
+}
+
 bool TextCursor::next_line() {
-  const std::string_view text = file_.bytes;
+  const std::string_view text = file_.bytes.substr(0, end_);
   if (next_line_start_ >= text.size()) {
     line_ = {};
     return false;
   }
   // A line ends at LF, CRLF or a lone CR (classic Mac OS): read as one line, a CR-only file had no faces.
-  const std::size_t end = std::min(text.find_first_of("\r\n", next_line_start_), text.size());
+  // memchr finds the LF, then a CR before it, a handful of bytes at a time.
+  const char* start = text.data() + next_line_start_;
+  const std::size_t rest = text.size() - next_line_start_;
+  const void* lf = std::memchr(start, '\n', rest);
+  const std::size_t to_lf = lf ? static_cast<std::size_t>(static_cast<const char*>(lf) - start) : rest;
+  const void* cr = std::memchr(start, '\r', to_lf);
+  const std::size_t end = next_line_start_ + (cr ? static_cast<std::size_t>(static_cast<const char*>(cr) - start) : to_lf);
   line_ = text.substr(next_line_start_, end - next_line_start_);
   terminator_ = text.substr(end, text.compare(end, 2, "\r\n") == 0 ? 2 : 1);
   next_line_start_ = end + terminator_.size();
@@ -188,7 +218,17 @@ std::string_view file_kind(const std::filesystem::file_status& status) {
   return "an unknown kind of file";
 }
 
-std::string read_whole_file(const std::filesystem::path& path) {
+// A file's bytes, read into memory.
+struct FileBytes {
+  std::unique_ptr<char[]> data;
+  std::size_t size = 0;
+  std::string_view view() const { return {data.get(), size}; }
+};
+
+// Regular files of a known size are read in blocks by the team's threads straight into one buffer (the
+// kernel's copy from its cache is the cost, and it parallelises); files whose size is not known up front
+// (size 0 in /proc and the like) are read to their end in order.
+FileBytes read_whole_file(const std::filesystem::path& path, const detail::ParallelTeam& team) {
   const auto fail_because = [&](const char* action, const std::string& reason) {
     throw Error(ErrorCode::io_error, std::string("cannot ") + action + " '" + path.string() + "': " + reason);
   };
@@ -203,14 +243,44 @@ std::string read_whole_file(const std::filesystem::path& path) {
   errno = 0;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> stream(std::fopen(path.string().c_str(), "rb"), &std::fclose);
   if (!stream) fail("open");
-  std::string bytes;
+  const int descriptor = fileno(stream.get());
+  struct stat info = {};
+  if (fstat(descriptor, &info) != 0) fail("read");
+  FileBytes bytes;
+  if (info.st_size > 0) {
+    bytes.size = static_cast<std::size_t>(info.st_size);
+    bytes.data = std::make_unique_for_overwrite<char[]>(bytes.size);
+    constexpr std::size_t kBlock = std::size_t{1} << 22;
+    const std::size_t blocks = (bytes.size + kBlock - 1) / kBlock;
+    std::atomic<int> error{0};  // errno of a failed read, or -1 if the file ended early
+    team.for_each(blocks, 1, [&](std::size_t block) {
+      std::size_t at = block * kBlock;
+      const std::size_t end = std::min(bytes.size, at + kBlock);
+      while (at < end) {
+        const ssize_t got = pread(descriptor, bytes.data.get() + at, end - at, static_cast<off_t>(at));
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) {
+          error = got < 0 ? errno : -1;
+          return;
+        }
+        at += static_cast<std::size_t>(got);
+      }
+    });
+    if (error == -1) fail_because("read", "the file became shorter while it was read");
+    if (error != 0) fail_because("read", std::strerror(error));
+    return bytes;
+  }
+  std::string text;
   char buffer[1 << 16];
   for (;;) {
     const std::size_t got = std::fread(buffer, 1, sizeof buffer, stream.get());
-    bytes.append(buffer, got);
+    text.append(buffer, got);
     if (got < sizeof buffer) break;
   }
   if (std::ferror(stream.get())) fail("read");
+  bytes.size = text.size();
+  bytes.data = std::make_unique_for_overwrite<char[]>(bytes.size);
+  std::copy(text.begin(), text.end(), bytes.data.get());
   return bytes;
 }
 
@@ -222,8 +292,8 @@ std::string lowercase(std::string text) {
 
 }  // namespace
 
-MeshSoup read_mesh_soup(const std::filesystem::path& path) {
-  using Reader = MeshSoup (*)(const detail::MeshFile&);
+MeshSoup read_mesh_soup(const std::filesystem::path& path, const ReadOptions& options) {
+  using Reader = MeshSoup (*)(const detail::MeshFile&, const detail::ParallelTeam&, std::size_t);
   const std::string extension = lowercase(path.extension().string());
   Reader reader = nullptr;
   if (extension == ".obj") reader = &detail::read_obj;
@@ -234,16 +304,23 @@ MeshSoup read_mesh_soup(const std::filesystem::path& path) {
     const std::string found = extension.empty() ? "no extension" : "unsupported extension '" + extension + "'";
     throw Error(ErrorCode::invalid_mesh, path.string() + ": " + found + " (expected .obj, .ply, .off or .stl)");
   }
-  const std::string bytes = read_whole_file(path);
-  const detail::MeshFile file{path.string(), bytes};
-  MeshSoup soup = reader(file);
+  // One thread per few chunks' worth of file at most: a small file is read and parsed on the calling thread.
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(path, size_error);
+  const std::uintmax_t worth = size_error ? 1 : std::max<std::uintmax_t>(1, size / (4 * detail::kMinChunkBytes));
+  detail::WorkerPool pool(static_cast<unsigned>(
+      std::min<std::uintmax_t>({detail::threads_or_cores(options.threads), detail::threads_or_cores(0), worth})));
+  const detail::ParallelTeam team{pool, options.stop};
+  const FileBytes bytes = read_whole_file(path, team);
+  const detail::MeshFile file{path.string(), bytes.view()};
+  MeshSoup soup = reader(file, team, detail::kMinChunkBytes);
   if (soup.positions.empty()) detail::throw_file_error(file, "no vertices");
   if (soup.triangles.empty()) detail::throw_file_error(file, "no faces");
   return soup;
 }
 
 Mesh load_mesh(const std::filesystem::path& path, const MeshOptions& options) {
-  return Mesh(read_mesh_soup(path), options);
+  return Mesh(read_mesh_soup(path, {.threads = options.threads, .stop = options.stop}), options);
 }
 
 }  // namespace exactgeo

@@ -1,8 +1,14 @@
 // Wavefront OBJ: `v` positions and `f` polygons; every other statement (vt, vn, o, g, s, usemtl, l, ...)
 // is ignored. Face corners may be written v, v/vt, v//vn or v/vt/vn; indices are 1-based, or negative
 // to count back from the latest vertex.
+//
+// Read in chunks of lines on the team: a first pass counts each chunk's lines, vertices and triangles, so
+// that a second pass parses every chunk straight into its place in the soup, knowing how many vertices come
+// before each line (relative indices, range checks) and each line's number (messages). The soup and the
+// first error are those of a reading from start to end.
 #include <array>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <string>
 
@@ -26,29 +32,86 @@ std::uint32_t corner_index(TextCursor& cursor, std::string_view token, std::size
   return static_cast<std::uint32_t>(resolved);
 }
 
-}  // namespace
+// What a chunk holds, and so where its lines, vertices and triangles start once the chunks before it are
+// summed.
+struct ChunkCounts {
+  std::size_t lines = 0, vertices = 0, triangles = 0;
+};
 
-MeshSoup read_obj(const MeshFile& file) {
-  MeshSoup soup;
-  std::vector<std::uint32_t> polygon;
-  TextCursor cursor(file, '#');
+ChunkCounts count_chunk(const MeshFile& file, std::size_t begin, std::size_t end) {
+  ChunkCounts counts;
+  TextCursor cursor(file, '#', begin, end, 0);
   while (cursor.next_line()) {
     const std::string_view statement = cursor.next_token();
     if (statement == "v") {
-      const std::array<double, 3> position = cursor.read_position();
-      const std::uint64_t vertex_count = soup.positions.size() / 3 + 1;
-      if (vertex_count > std::numeric_limits<std::uint32_t>::max()) cursor.fail(too_many_vertices(vertex_count));
-      soup.positions.insert(soup.positions.end(), position.begin(), position.end());
+      ++counts.vertices;
+    } else if (statement == "f") {
+      std::size_t corners = 0;
+      while (!cursor.next_token().empty()) ++corners;
+      if (corners >= 3) counts.triangles += corners - 2;  // fewer is an error, raised by the parsing pass
+    }
+  }
+  counts.lines = cursor.line_number();
+  return counts;
+}
+
+void parse_chunk(const MeshFile& file, std::size_t begin, std::size_t end, const ChunkCounts& before,
+                 MeshSoup& soup) {
+  TextCursor cursor(file, '#', begin, end, before.lines);
+  double* position = soup.positions.data() + 3 * before.vertices;
+  std::uint32_t* triangle = soup.triangles.data() + 3 * before.triangles;
+  std::size_t vertex_count = before.vertices;
+  std::vector<std::uint32_t> polygon;
+  while (cursor.next_line()) {
+    const std::string_view statement = cursor.next_token();
+    if (statement == "v") {
+      const std::array<double, 3> p = cursor.read_position();
+      if (vertex_count + 1 > std::numeric_limits<std::uint32_t>::max()) cursor.fail(too_many_vertices(vertex_count + 1));
+      position = std::copy(p.begin(), p.end(), position);
+      ++vertex_count;
     } else if (statement == "f") {
       polygon.clear();
-      const std::size_t vertex_count = soup.positions.size() / 3;
       for (std::string_view token = cursor.next_token(); !token.empty(); token = cursor.next_token()) {
         polygon.push_back(corner_index(cursor, token, vertex_count));
       }
       if (polygon.size() < 3) cursor.fail(too_few_corners(polygon.size()));
-      append_fan(polygon, soup.triangles);
+      for (std::size_t i = 2; i < polygon.size(); ++i) {  // fanned as append_fan does
+        *triangle++ = polygon[0];
+        *triangle++ = polygon[i - 1];
+        *triangle++ = polygon[i];
+      }
     }
   }
+}
+
+}  // namespace
+
+MeshSoup read_obj(const MeshFile& file, const ParallelTeam& team, std::size_t min_chunk_bytes) {
+  const std::vector<std::size_t> bounds = line_chunks(file.bytes, 0, team, min_chunk_bytes);
+  const std::size_t chunks = bounds.size() - 1;
+  // Pass 1: counts; then where each chunk starts.
+  std::vector<ChunkCounts> before(chunks + 1);
+  team.for_each(chunks, 1, [&](std::size_t k) { before[k + 1] = count_chunk(file, bounds[k], bounds[k + 1]); });
+  for (std::size_t k = 0; k < chunks; ++k) {
+    before[k + 1].lines += before[k].lines;
+    before[k + 1].vertices += before[k].vertices;
+    before[k + 1].triangles += before[k].triangles;
+  }
+  MeshSoup soup;
+  soup.positions.resize(3 * before[chunks].vertices);
+  soup.triangles.resize(3 * before[chunks].triangles);
+  // Pass 2: every chunk parsed into its place. Each keeps its own first error; the earliest chunk's is the
+  // file's first.
+  std::vector<std::exception_ptr> failure(chunks);
+  team.for_each(chunks, 1, [&](std::size_t k) {
+    try {
+      parse_chunk(file, bounds[k], bounds[k + 1], before[k], soup);
+    } catch (const Error&) {
+      failure[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& f : failure)
+    if (f) std::rethrow_exception(f);
   return soup;
 }
 

@@ -31,7 +31,7 @@ std::uint64_t read_count(TextCursor& cursor, std::string_view what) {
 
 }  // namespace
 
-MeshSoup read_off(const MeshFile& file) {
+MeshSoup read_off(const MeshFile& file, const ParallelTeam&, std::size_t) {
   TextCursor cursor(file, '#');
   if (!cursor.next_data_line()) throw_file_error(file, "empty file (no OFF header)");
 

@@ -406,7 +406,7 @@ void read_body(Body& body, std::size_t bytes_left, const PlyHeader& header, Mesh
 
 }  // namespace
 
-MeshSoup read_ply(const MeshFile& file) {
+MeshSoup read_ply(const MeshFile& file, const ParallelTeam&, std::size_t) {
   TextCursor cursor(file);
   const PlyHeader header = read_header(cursor);
   std::size_t body_offset = cursor.offset_after_line();

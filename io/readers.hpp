@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "exactgeo/mesh.hpp"
+#include "parallel.hpp"
 
 namespace exactgeo::detail {
 
@@ -57,7 +58,15 @@ inline std::size_t byte_order_mark_size(std::string_view bytes) {
 class TextCursor {
  public:
   explicit TextCursor(const MeshFile& file, char comment = '\0')
-      : file_(file), comment_(comment), next_line_start_(byte_order_mark_size(file.bytes)) {}
+      : file_(file), end_(file.bytes.size()), comment_(comment), next_line_start_(byte_order_mark_size(file.bytes)) {}
+  // The lines of bytes [begin, end) alone, begin the start of a line (end the end of one, or of the file),
+  // numbered in messages as if `lines_before` lines came before them.
+  TextCursor(const MeshFile& file, char comment, std::size_t begin, std::size_t end, std::size_t lines_before)
+      : file_(file),
+        end_(end),
+        comment_(comment),
+        next_line_start_(begin == 0 ? byte_order_mark_size(file.bytes) : begin),
+        line_number_(lines_before) {}
 
   // Move to the next line; false at the end of the file.
   bool next_line();
@@ -85,9 +94,11 @@ class TextCursor {
 
   // Throw Error(invalid_mesh) naming the file and the current line.
   [[noreturn]] void fail(std::string_view reason) const;
+  std::size_t line_number() const { return line_number_; }
 
  private:
   const MeshFile& file_;
+  std::size_t end_;  // where the cursor's lines end: the file's end, or a chunk's
   char comment_;
   std::string_view line_;  // unread rest of the current line
   std::string_view terminator_;
@@ -95,11 +106,21 @@ class TextCursor {
   std::size_t line_number_ = 0;
 };
 
+// Where the team's chunks of a text body start: bounds[k] to bounds[k + 1] is chunk k, for k below
+// bounds.size() - 1, covering [begin, bytes.size()). Each starts at the start of a line and holds at least
+// min_chunk_bytes (the last one whatever is left): a few chunks per thread on a large file, one on a small.
+std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, const ParallelTeam& team,
+                                     std::size_t min_chunk_bytes);
+// Chunks below this are not worth a thread; the tests use smaller ones, so that small files run through the
+// chunked code too.
+inline constexpr std::size_t kMinChunkBytes = std::size_t{1} << 20;
+
 // One function per format; each returns the soup with every index checked against its vertex count and
-// every coordinate finite. Emptiness is checked by the caller.
-MeshSoup read_obj(const MeshFile& file);
-MeshSoup read_ply(const MeshFile& file);
-MeshSoup read_off(const MeshFile& file);
-MeshSoup read_stl(const MeshFile& file);
+// every coordinate finite. Emptiness is checked by the caller. Each gives the same soup and the same first
+// error on any team and chunk size.
+MeshSoup read_obj(const MeshFile& file, const ParallelTeam& team, std::size_t min_chunk_bytes = kMinChunkBytes);
+MeshSoup read_ply(const MeshFile& file, const ParallelTeam& team, std::size_t min_chunk_bytes = kMinChunkBytes);
+MeshSoup read_off(const MeshFile& file, const ParallelTeam& team, std::size_t min_chunk_bytes = kMinChunkBytes);
+MeshSoup read_stl(const MeshFile& file, const ParallelTeam& team, std::size_t min_chunk_bytes = kMinChunkBytes);
 
 }  // namespace exactgeo::detail

@@ -125,7 +125,7 @@ bool starts_with_solid(std::string_view bytes) {
 
 }  // namespace
 
-MeshSoup read_stl(const MeshFile& file) {
+MeshSoup read_stl(const MeshFile& file, const ParallelTeam&, std::size_t) {
   const std::string_view bytes = file.bytes;
   const std::uint32_t triangle_count = bytes.size() >= kBinaryHeaderBytes ? load_uint32_le(bytes.data() + 80) : 0;
   const std::uint64_t binary_size = kBinaryHeaderBytes + std::uint64_t{kBinaryTriangleBytes} * triangle_count;

@@ -34,6 +34,7 @@ struct SurfaceMesh {
   std::vector<double> input_positions;
   std::vector<std::uint32_t> input_triangles;
   MeshReport report;
+  MeshBuildStats build_stats;
 
   // The engine works on the input positions times 2^scale_exponent (0 unless the mesh's extent is far from
   // 1, see kOrdinaryScaleExponent), so that squared lengths neither overflow nor underflow at any scale. All
@@ -41,6 +42,7 @@ struct SurfaceMesh {
   int scale_exponent = 0;
   std::array<double, 3> position(std::uint32_t input_vertex) const {
     const double* p = input_positions.data() + 3 * std::size_t{input_vertex};
+    if (scale_exponent == 0) return {p[0], p[1], p[2]};  // the ordinary scale: ldexp is a call per coordinate
     return {std::ldexp(p[0], scale_exponent), std::ldexp(p[1], scale_exponent), std::ldexp(p[2], scale_exponent)};
   }
   double to_engine_length(double input_length) const { return std::ldexp(input_length, scale_exponent); }

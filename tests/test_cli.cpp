@@ -20,6 +20,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -233,9 +234,9 @@ TEST_F(Cli, StatsJsonHasRequiredKeys) {
       run("distance @icosphere:2 --source 0 --source 7 --stats " + arg("s.json") + " --out " + arg("d.txt"));
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const nlohmann::json stats = nlohmann::json::parse(read_file(path("s.json")));
-  for (const char* key : {"vertices", "faces", "source", "algorithm", "read_seconds", "build_seconds", "propagation_seconds",
-                          "window_propagations", "peak_windows", "peak_window_bytes", "vertex_pops", "max_distance",
-                          "unreachable", "mesh_report"}) {
+  for (const char* key : {"vertices", "faces", "source", "algorithm", "read_seconds", "build_seconds", "build_threads",
+                          "build_timings", "propagation_seconds", "write_seconds", "window_propagations", "peak_windows",
+                          "peak_window_bytes", "vertex_pops", "max_distance", "unreachable", "mesh_report"}) {
     EXPECT_TRUE(stats.contains(key)) << key;
   }
   EXPECT_EQ(stats["vertices"], 162);
@@ -244,7 +245,17 @@ TEST_F(Cli, StatsJsonHasRequiredKeys) {
   EXPECT_EQ(stats["algorithm"], "vtp");
   EXPECT_EQ(stats["unreachable"], 0);
   EXPECT_GE(stats["read_seconds"].get<double>(), 0.0);
-  EXPECT_GE(stats["build_seconds"].get<double>(), stats["read_seconds"].get<double>());  // reading is part of it
+  // The build's steps, each timed apart and after the read: together no more than the build.
+  double steps = 0;
+  exactgeo::for_each_build_stats_field([&](std::string_view name, auto, const char*) {
+    if (!name.ends_with("_seconds")) return;
+    ASSERT_TRUE(stats["build_timings"].contains(name)) << name;
+    steps += stats["build_timings"][std::string(name)].get<double>();
+  });
+  EXPECT_GT(steps, 0.0);
+  EXPECT_LE(steps, stats["build_seconds"].get<double>());
+  EXPECT_GE(stats["build_threads"].get<unsigned>(), 1u);
+  EXPECT_GE(stats["write_seconds"].get<double>(), 0.0);
   EXPECT_GE(stats["propagation_seconds"].get<double>(), 0.0);
   EXPECT_GT(stats["window_propagations"].get<std::uint64_t>(), 0u);
   EXPECT_GT(stats["peak_windows"].get<std::uint64_t>(), 0u);

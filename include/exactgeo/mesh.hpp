@@ -20,8 +20,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "exactgeo/export.hpp"
@@ -40,7 +42,46 @@ struct MeshSoup {
 
 struct MeshOptions {
   bool weld_duplicate_positions = false;  // merge vertices whose three coordinates are identical
+  // Threads building the mesh: 0 takes one per core. Never more than the cores, nor than one per 20,000
+  // faces (starting a thread would cost more than it saves). The mesh is the same, bit for bit, on any count.
+  unsigned threads = 0;
+  std::stop_token stop = {};  // a stop request ends the build with Error(cancelled) within milliseconds
+  // Called with the fraction of the build done (0 to 1), from the calling thread, between the build's steps.
+  std::function<void(double)> progress = {};
 };
+
+// Where the time of building a mesh went, step by step (the steps run one after the other, each on the
+// build's threads). Each field's meaning is in for_each_build_stats_field below.
+struct MeshBuildStats {
+  unsigned threads = 0;
+  double seconds = 0;
+  double validate_seconds = 0;
+  double duplicate_positions_seconds = 0;
+  double faces_seconds = 0;
+  double face_order_seconds = 0;
+  double edges_seconds = 0;
+  double vertices_seconds = 0;
+  double geometry_seconds = 0;
+  double fan_walk_seconds = 0;
+  double components_seconds = 0;
+};
+
+// Every field of MeshBuildStats in declaration order: visit(name, member pointer, description).
+template <class Visit>
+constexpr void for_each_build_stats_field(Visit&& visit) {
+  using B = MeshBuildStats;
+  visit("threads", &B::threads, "threads the mesh was built on");
+  visit("seconds", &B::seconds, "the whole build, from the arrays to the surface the engine runs on");
+  visit("validate_seconds", &B::validate_seconds, "checking coordinates and indices, keeping the input arrays");
+  visit("duplicate_positions_seconds", &B::duplicate_positions_seconds, "finding vertices at the same position");
+  visit("faces_seconds", &B::faces_seconds, "dropping faces that repeat a vertex or an earlier face");
+  visit("face_order_seconds", &B::face_order_seconds, "numbering the faces in spatial order");
+  visit("edges_seconds", &B::edges_seconds, "pairing faces across edges (cutting non-manifold ones), fans at vertices");
+  visit("vertices_seconds", &B::vertices_seconds, "one surface vertex per fan, numbered in spatial order");
+  visit("geometry_seconds", &B::geometry_seconds, "edge lengths, unfolding frames, angles, saddles");
+  visit("fan_walk_seconds", &B::fan_walk_seconds, "ordering each vertex's corners around it");
+  visit("components_seconds", &B::components_seconds, "counting the connected pieces");
+}
 
 // What validation found. Counts refer to the input unless said otherwise; each field's meaning is in
 // for_each_report_field below.
@@ -96,12 +137,15 @@ class EXACTGEO_API Mesh {
        const MeshOptions& options = {});
   explicit Mesh(const MeshSoup& soup, const MeshOptions& options = {})
       : Mesh(soup.positions, soup.triangles, options) {}
+  // Takes the soup's arrays over instead of copying them (what load_mesh does).
+  explicit Mesh(MeshSoup&& soup, const MeshOptions& options = {});
 
   std::size_t vertex_count() const noexcept;  // input vertices
   std::size_t face_count() const noexcept;    // input triangles
   std::span<const double> positions() const noexcept;
   std::span<const std::uint32_t> triangles() const noexcept;
   const MeshReport& report() const noexcept;
+  const MeshBuildStats& build_stats() const noexcept;
 
   // The manifold surface the engine runs on; internal layout, not a stable API.
   const detail::SurfaceMesh& surface() const noexcept { return *surface_; }

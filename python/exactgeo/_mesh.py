@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import os
+import threading
+import uuid
+import weakref
 from typing import Any
 
 import numpy as np
 
 from . import _core, _inputs, _mesh_libraries
+from ._progress import Progress, run_with_progress
 
 
 class Mesh:
@@ -24,28 +28,63 @@ class Mesh:
 
     `weld_duplicate_positions` merges vertices with identical coordinates (seams) before anything else.
 
+    The mesh is built on `threads` threads (0, the default: one per core; the mesh is the same on any
+    count), without the GIL. `progress`: True for a tqdm bar, or a function called with (done, total)
+    thousandths of the build. Ctrl-C stops a large build within a tenth of a second.
+
     A Mesh pickles as its arrays and options (for multiprocessing and Dask): the copy is built and validated
-    anew, and equals the original.
+    anew, and equals the original. A process that unpickles the same mesh again (Dask tasks that share it)
+    gets the copy it built before, as long as one is alive or it was the last one unpickled.
     """
 
-    __slots__ = ("_core", "_weld")
+    __slots__ = ("_core", "_weld", "_identity", "__weakref__")
 
-    def __init__(self, vertices: object, faces: object, *, weld_duplicate_positions: bool = False) -> None:
+    def __init__(
+        self,
+        vertices: object,
+        faces: object,
+        *,
+        weld_duplicate_positions: bool = False,
+        threads: int = 0,
+        progress: Progress = None,
+    ) -> None:
         positions = _inputs.real_array(vertices, "vertices", columns=3)
         triangles = _inputs.triangles_array(faces, len(positions))
-        self._core = _core.Mesh(positions, triangles, bool(weld_duplicate_positions))
+        count = _inputs.count(threads, "threads", maximum=2**32 - 1)
+        self._core = run_with_progress(
+            progress,
+            "mesh",
+            1000,
+            lambda reporter: _core.Mesh(positions, triangles, bool(weld_duplicate_positions), count, reporter),
+        )
         self._weld = bool(weld_duplicate_positions)
+        self._identity = uuid.uuid4().hex
 
     @classmethod
-    def load(cls, path: str | os.PathLike[str], *, weld_duplicate_positions: bool = False) -> Mesh:
-        """Reads an .obj, .ply (ASCII or binary), .off or .stl file; polygons are fan-triangulated.
+    def load(
+        cls,
+        path: str | os.PathLike[str],
+        *,
+        weld_duplicate_positions: bool = False,
+        threads: int = 0,
+        progress: Progress = None,
+    ) -> Mesh:
+        """Reads an .obj, .ply (ASCII or binary), .off or .stl file; polygons are fan-triangulated. The file
+        is read and the mesh built on `threads` threads, with `progress` and Ctrl-C as in Mesh().
 
         Raises OSError if the file cannot be read, ValueError naming the line or element if its content is
         malformed.
         """
+        count = _inputs.count(threads, "threads", maximum=2**32 - 1)
         mesh = cls.__new__(cls)
-        mesh._core = _core.load_mesh(os.fspath(path), bool(weld_duplicate_positions))
+        mesh._core = run_with_progress(
+            progress,
+            "mesh",
+            1000,
+            lambda reporter: _core.load_mesh(os.fspath(path), bool(weld_duplicate_positions), count, reporter),
+        )
         mesh._weld = bool(weld_duplicate_positions)
+        mesh._identity = uuid.uuid4().hex
         return mesh
 
     @classmethod
@@ -88,7 +127,7 @@ class Mesh:
         if isinstance(mesh, Mesh):
             if mesh._weld == bool(weld_duplicate_positions):
                 return mesh
-            return cls(np.array(mesh.vertices), np.array(mesh.faces), weld_duplicate_positions=weld_duplicate_positions)
+            return cls(mesh.vertices, mesh.faces, weld_duplicate_positions=weld_duplicate_positions)
         return cls._of(_mesh_libraries.vertices_and_faces(mesh), weld_duplicate_positions)
 
     @classmethod
@@ -96,8 +135,9 @@ class Mesh:
         return cls(arrays[0], arrays[1], weld_duplicate_positions=weld_duplicate_positions)
 
     def __reduce__(self) -> tuple[object, tuple[object, ...]]:
-        # The input arrays (a file's polygons already fanned into them) rebuild the same mesh.
-        return (_rebuilt_mesh, (np.array(self.vertices), np.array(self.faces), self._weld))
+        # The input arrays (a file's polygons already fanned into them) rebuild the same mesh; the identity
+        # lets a process that already rebuilt it reuse that copy.
+        return (_rebuilt_mesh, (np.array(self.vertices), np.array(self.faces), self._weld, self._identity))
 
     @property
     def vertex_count(self) -> int:
@@ -130,8 +170,25 @@ class Mesh:
         return f"exactgeo.Mesh(vertex_count={self.vertex_count}, face_count={self.face_count})"
 
 
-def _rebuilt_mesh(vertices: np.ndarray, faces: np.ndarray, weld: bool) -> Mesh:
-    return Mesh(vertices, faces, weld_duplicate_positions=weld)
+# Meshes this process unpickled, by the identity of the original: every copy still alive, and the last one
+# unpickled, so that tasks receiving the same mesh one after the other do not each build it again.
+_unpickled: weakref.WeakValueDictionary[str, Mesh] = weakref.WeakValueDictionary()
+_last_unpickled: list[Mesh] = []
+_unpickled_lock = threading.Lock()
+
+
+def _rebuilt_mesh(vertices: np.ndarray, faces: np.ndarray, weld: bool, identity: str | None = None) -> Mesh:
+    with _unpickled_lock:
+        mesh = _unpickled.get(identity) if identity else None
+    if mesh is not None:
+        return mesh
+    mesh = Mesh(vertices, faces, weld_duplicate_positions=weld)
+    if identity:
+        mesh._identity = identity
+        with _unpickled_lock:
+            _unpickled[identity] = mesh
+            _last_unpickled[:] = [mesh]
+    return mesh
 
 
 def checked_mesh(mesh: object, what: str = "mesh") -> Mesh:

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <filesystem>
 #include <future>
 #include <initializer_list>
 #include <mutex>
@@ -317,6 +318,28 @@ nb::tuple solve(Solver& self, exactgeo::GeodesicOptions options, const nb::objec
                         to_numpy(std::move(target_nearest), {targets}), nb::cast(stats), run_number);
 }
 
+// Meshes this large take long enough to build (tens of milliseconds and more) to be worth a worker thread
+// that Ctrl-C can stop; smaller ones are built on the calling thread (without the GIL).
+constexpr std::size_t kInterruptibleFaces = 40000;
+// About the bytes a face takes in a mesh file (an OBJ's `f` line and half a `v` line).
+constexpr std::uintmax_t kFileBytesPerFace = 40;
+
+// A mesh built by `build(options)`: on a worker thread that Ctrl-C stops (with progress in thousandths of
+// the build) when it is large or progress is asked for, else here.
+template <class Build>
+exactgeo::Mesh build_mesh(const nb::object& progress, std::size_t faces, exactgeo::MeshOptions options, Build&& build) {
+  if (progress.is_none() && faces < kInterruptibleFaces) {
+    nb::gil_scoped_release release;
+    return build(options);
+  }
+  return run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
+    counter.total = 1000;
+    options.stop = stop;
+    options.progress = [&](double fraction) { counter.done = static_cast<std::size_t>(1000 * fraction); };
+    return build(options);
+  });
+}
+
 void translate_error(const std::exception_ptr& error, void*) {
   try {
     std::rethrow_exception(error);
@@ -395,11 +418,15 @@ NB_MODULE(_core, m) {
   nb::class_<exactgeo::Mesh>(m, "Mesh")
       .def(
           "__init__",
-          [](exactgeo::Mesh* self, const PointArray& positions, const TriangleArray& triangles, bool weld) {
-            nb::gil_scoped_release release;
-            new (self) exactgeo::Mesh(span_of(positions), span_of(triangles), {.weld_duplicate_positions = weld});
+          [](exactgeo::Mesh* self, const PointArray& positions, const TriangleArray& triangles, bool weld,
+             unsigned threads, const nb::object& progress) {
+            const exactgeo::MeshOptions options{.weld_duplicate_positions = weld, .threads = threads};
+            new (self) exactgeo::Mesh(build_mesh(progress, triangles.shape(0), options, [&](const exactgeo::MeshOptions& o) {
+              return exactgeo::Mesh(span_of(positions), span_of(triangles), o);
+            }));
           },
-          "positions"_a.noconvert(), "triangles"_a.noconvert(), "weld_duplicate_positions"_a)
+          "positions"_a.noconvert(), "triangles"_a.noconvert(), "weld_duplicate_positions"_a, "threads"_a,
+          "progress"_a.none())
       .def_prop_ro("vertex_count", &exactgeo::Mesh::vertex_count)
       .def_prop_ro("face_count", &exactgeo::Mesh::face_count)
       // Views of the mesh's own storage, read-only; each keeps the mesh alive.
@@ -421,11 +448,15 @@ NB_MODULE(_core, m) {
 
   m.def(
       "load_mesh",
-      [](const std::string& path, bool weld) {
-        nb::gil_scoped_release release;
-        return exactgeo::load_mesh(path, {.weld_duplicate_positions = weld});
+      [](const std::string& path, bool weld, unsigned threads, const nb::object& progress) {
+        const exactgeo::MeshOptions options{.weld_duplicate_positions = weld, .threads = threads};
+        // The file's size stands in for its faces until they are known: a big file is read interruptibly.
+        std::error_code size_error;
+        const std::uintmax_t bytes = std::filesystem::file_size(path, size_error);
+        return build_mesh(progress, size_error ? 0 : bytes / kFileBytesPerFace, options,
+                          [&](const exactgeo::MeshOptions& o) { return exactgeo::load_mesh(path, o); });
       },
-      "path"_a, "weld_duplicate_positions"_a);
+      "path"_a, "weld_duplicate_positions"_a, "threads"_a, "progress"_a.none());
 
   // `what` names the points in messages: "target" gives "target 3: vertex 99 is out of range (...)"; empty,
   // the library's message as it is.

@@ -1,0 +1,145 @@
+// Geometry steps of the mesh build (mesh_build.hpp): the scale frame, edge lengths and unfolding frames,
+// corner angles and pseudo-sources, and the walk around each vertex's fan. Per face, then per vertex, on the
+// team; every sum runs in the order a single thread would take, so the geometry is the same bit for bit on
+// any thread count.
+#include <cmath>
+#include <numbers>
+
+#include "mesh_build.hpp"
+#include "tolerances.hpp"
+
+namespace exactgeo::detail {
+namespace {
+
+constexpr std::size_t kGrain = 1 << 12;
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+}  // namespace
+
+void choose_scale(const ParallelTeam& team, SurfaceMesh& s) {
+  const Box box = bounding_box(team, s.vertex_count, [&](std::size_t v) {
+    const double* p = s.input_positions.data() + 3 * std::size_t{s.surface_to_input[v]};
+    return Vec3{p[0], p[1], p[2]};
+  });
+  // Half of each side: hi - lo itself may overflow (coordinates of both signs near the largest double).
+  double half_extent = 0;
+  for (int k = 0; k < 3; ++k) half_extent = std::max(half_extent, 0.5 * box.hi[k] - 0.5 * box.lo[k]);
+  const int exponent = half_extent > 0 ? std::ilogb(half_extent) + 1 : 0;  // extent in [2^e, 2^(e+1)), about
+  s.scale_exponent = std::abs(exponent) <= kOrdinaryScaleExponent ? 0 : -exponent;
+  Vec3 scaled_lo, scaled_hi;
+  for (int k = 0; k < 3; ++k) {
+    scaled_lo[k] = std::ldexp(box.lo[k], s.scale_exponent);
+    scaled_hi[k] = std::ldexp(box.hi[k], s.scale_exponent);
+  }
+  const double diagonal =
+      std::hypot(scaled_hi[0] - scaled_lo[0], scaled_hi[1] - scaled_lo[1], scaled_hi[2] - scaled_lo[2]);
+  s.length_scale = diagonal > 0 ? diagonal : 1.0;
+}
+
+void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
+  const std::uint32_t face_count = s.face_count();
+  s.halfedges.resize(3 * std::size_t{face_count});
+  s.corner_angle.resize(3 * std::size_t{face_count});
+  std::vector<std::uint8_t> degenerate(face_count);
+  team.for_each(face_count, kGrain, [&](std::size_t f) {
+    const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
+                                        s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),
+                                        s.position(s.surface_to_input[s.corner_vertex[3 * f + 2]])};
+    double longest = 0;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
+      const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
+      const double length = norm(ab);
+      longest = std::max(longest, length);
+      HalfedgeGeometry& g = s.halfedges[3 * f + i];
+      g.length = length;
+      if (length > 0) {
+        g.apex_x = dot(ac, ab) / length;
+        g.apex_y = norm(cross(ac, ab)) / length;
+      } else {  // A and B coincide: place C straight above them, which keeps the unfolding consistent
+        g.apex_x = 0;
+        g.apex_y = norm(ac);
+      }
+      s.corner_angle[3 * f + i] = std::atan2(g.apex_y, g.apex_x);
+    }
+    const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
+    degenerate[f] = doubled_area <= kDegenerateAreaRatio * longest * longest;
+  });
+  s.report.degenerate_faces = team.count_if(face_count, kGrain, [&](std::size_t f) { return degenerate[f] != 0; });
+  // In halfedge order, as one thread sums: the band width of parallel runs derives from it.
+  double total_length = 0;
+  for (const HalfedgeGeometry& g : s.halfedges) total_length += g.length;
+  s.mean_edge_length = total_length / std::max(1.0, 3.0 * face_count);
+
+  // Per vertex, over its corners in increasing order (the order of the faces): angle sums, whether it is on
+  // the boundary or on a degenerate face, and so whether geodesics may bend there.
+  s.fan_angles_reliable.resize(s.vertex_count);
+  s.is_pseudo_source.resize(s.vertex_count);
+  s.report.saddle_vertices = team.count_if(s.vertex_count, kGrain, [&](std::size_t v) {
+    double angle_sum = 0;
+    bool on_boundary = false, near_degenerate = false;
+    for (std::uint32_t i = s.vertex_corner_offsets[v]; i < s.vertex_corner_offsets[v + 1]; ++i) {
+      const std::uint32_t c = s.vertex_corners[i];
+      angle_sum += s.corner_angle[c];
+      // The corner's halfedge leaves the vertex, the one before it arrives: on the boundary if either is.
+      on_boundary = on_boundary || s.twin[c] == kNone || s.twin[prev_halfedge(c)] == kNone;
+      near_degenerate = near_degenerate || degenerate[face_of(c)];
+    }
+    const double full = on_boundary ? std::numbers::pi : 2 * std::numbers::pi;
+    // A shortest path through a vertex leaves it at an angle of at least pi on both sides (interior) or on
+    // the surface side (boundary), so it bends only where the angle sum exceeds 2*pi or pi.
+    const bool bends = angle_sum > full + kSaddleAngleTolerance;
+    s.is_pseudo_source[v] = bends || near_degenerate;
+    s.fan_angles_reliable[v] = !near_degenerate;
+    return !on_boundary && bends;
+  });
+}
+
+void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
+  const std::size_t corner_count = s.corner_vertex.size();
+  s.fan_angle_start.resize(corner_count);
+  s.corner_enters_forward.resize(corner_count);
+  s.fan_total_angle.resize(s.vertex_count);
+  s.fan_closed.resize(s.vertex_count);
+  team.for_each(s.vertex_count, kGrain, [&](std::size_t vertex) {
+    const auto v = static_cast<std::uint32_t>(vertex);
+    const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
+    // Corners a broken fan never reaches (around a degenerate face) keep the defaults.
+    for (std::uint32_t i = begin; i < end; ++i) {
+      s.fan_angle_start[s.vertex_corners[i]] = 0.0;
+      s.corner_enters_forward[s.vertex_corners[i]] = 1;
+    }
+    // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.
+    std::uint32_t start = s.vertex_corners[begin];
+    bool forward = true;
+    s.fan_closed[v] = 1;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t c = s.vertex_corners[i];
+      if (s.twin[c] == kNone) { start = c; forward = true; s.fan_closed[v] = 0; break; }
+      if (s.twin[prev_halfedge(c)] == kNone) { start = c; forward = false; s.fan_closed[v] = 0; break; }
+    }
+    double walked = 0;
+    std::uint32_t c = start;
+    for (std::uint32_t step = begin; step < end; ++step) {
+      s.fan_angle_start[c] = walked;
+      s.corner_enters_forward[c] = forward;
+      walked += s.corner_angle[c];
+      const std::uint32_t exit = forward ? prev_halfedge(c) : c;  // the corner's other edge at v
+      const std::uint32_t across = s.twin[exit];
+      if (across == kNone) break;
+      // The corner of v beyond that edge is entered through it: forward if v is the twin's tail.
+      forward = s.tail(across) == v;
+      c = forward ? across : next_halfedge(across);
+      if (c == start) break;
+    }
+    s.fan_total_angle[v] = walked;
+  });
+}
+
+}  // namespace exactgeo::detail
