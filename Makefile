@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick paper clean
+.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -110,18 +110,26 @@ fuzz: build asan-build
 	exit $$status
 
 # Timings against the other solvers, written to bench/results/ (see bench/README.md). BENCH_BASELINE: the build
-# folder of an earlier commit for threads.py to compare with in the same run.
+# folder of an earlier commit for threads.py and end_to_end.py to compare with in the same run.
 BENCH_BASELINE ?=
+BENCH_BASELINE_OPTION = $(if $(BENCH_BASELINE),--baseline-build $(BENCH_BASELINE))
 bench: build python
 	python3 -m pip install -q -r bench/requirements.txt
 	python3 bench/run.py --build-dir $(BUILD_DIR)
 	python3 bench/many_sources.py --build-dir $(BUILD_DIR)
 	python3 bench/python_level.py
-	python3 bench/threads.py --build-dir $(BUILD_DIR) $(if $(BENCH_BASELINE),--baseline-build $(BENCH_BASELINE))
+	python3 bench/threads.py --build-dir $(BUILD_DIR) $(BENCH_BASELINE_OPTION)
+	python3 bench/end_to_end.py --build-dir $(BUILD_DIR) $(BENCH_BASELINE_OPTION)
 
 bench-quick: build
 	python3 -m pip install -q -r bench/requirements.txt
 	python3 bench/run.py --quick --build-dir $(BUILD_DIR)
+
+# The whole `exactgeo distance` command split into start, read, build, solve and write, per mesh and thread count,
+# beside the peers run end to end from the same OBJ file (the last step of `make bench`, on its own).
+bench-end-to-end: build
+	python3 -m pip install -q -r bench/requirements.txt
+	python3 bench/end_to_end.py --build-dir $(BUILD_DIR) $(BENCH_BASELINE_OPTION)
 
 # The paper's variant comparison, rule ablations and anisotropy study (see docs/paper-reproduction.md).
 paper: build

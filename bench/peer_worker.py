@@ -4,6 +4,11 @@ Run as its own process by run.py (one process per run, so its peak RSS is this r
 array loading happen before the clocks start; mesh setup and propagation are timed apart where the peer's
 API allows it. Distances go to an .npy file with +inf where the peer reports a vertex unreachable (or gives
 NaN); timings go to a JSON file.
+
+With --obj instead of the arrays (end_to_end.py), the run starts from the mesh file as a user's script would:
+reading it is timed too (read_seconds), with potpourri3d.read_mesh for every peer, so that all of them pay the
+same reader (it gives the arrays bench/meshes.py's reader gives, in exactgeo's numbering), and so is writing
+the distances (write_seconds).
 """
 
 from __future__ import annotations
@@ -96,28 +101,46 @@ def rss_bytes(field: str) -> int:
     return 0
 
 
+def as_peer_arrays(positions, triangles):
+    """The dtypes every peer's run function takes (float64 positions, int32 corners), contiguous."""
+    return np.ascontiguousarray(positions, dtype=np.float64), np.ascontiguousarray(triangles, dtype=np.int32)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--solver", required=True, choices=sorted(PEERS))
-    parser.add_argument("--vertices", required=True, help=".npy of float64 (V, 3) positions")
-    parser.add_argument("--triangles", required=True, help=".npy of (F, 3) zero-based vertex indices")
+    parser.add_argument("--vertices", help=".npy of float64 (V, 3) positions")
+    parser.add_argument("--triangles", help=".npy of (F, 3) zero-based vertex indices")
+    parser.add_argument("--obj", help="mesh file to read inside the timed part, instead of the arrays")
     parser.add_argument("--source", required=True, type=int)
     parser.add_argument("--out", help=".npy for the distances")
     parser.add_argument("--stats", required=True, help="JSON for the timings")
     args = parser.parse_args()
+    if (args.obj is None) == (args.vertices is None or args.triangles is None):
+        parser.error("give either --obj or both --vertices and --triangles")
 
     run, module, package = PEERS[args.solver]
     importlib.import_module(module)
-    positions = np.ascontiguousarray(np.load(args.vertices), dtype=np.float64)
-    triangles = np.ascontiguousarray(np.load(args.triangles), dtype=np.int32)
+    read_seconds = None
+    if args.obj:
+        import potpourri3d  # imported before the clock, as the peer's own module is
+
+        start = time.perf_counter()
+        positions, triangles = as_peer_arrays(*potpourri3d.read_mesh(args.obj))
+        read_seconds = time.perf_counter() - start
+    else:
+        positions, triangles = as_peer_arrays(np.load(args.vertices), np.load(args.triangles))
     rss_at_start = rss_bytes("VmRSS")  # interpreter, numpy, the peer's module and the mesh arrays
 
     build_seconds, propagation_seconds, distances = run(positions, triangles, args.source)
 
     distances = np.asarray(distances, dtype=np.float64).copy()
     distances[~(np.abs(distances) < kKirsanovInfinity)] = np.inf  # also turns NaN into "unreachable"
+    write_seconds = None
     if args.out:
+        start = time.perf_counter()
         np.save(args.out, distances)
+        write_seconds = time.perf_counter() - start
     stats = {
         "solver": args.solver,
         "package": package,
@@ -125,8 +148,10 @@ def main() -> None:
         "vertices": len(positions),
         "faces": len(triangles),
         "source": args.source,
+        "read_seconds": read_seconds,
         "build_seconds": build_seconds,
         "propagation_seconds": propagation_seconds,
+        "write_seconds": write_seconds,
         "rss_at_start_bytes": rss_at_start,
         "peak_rss_self_bytes": rss_bytes("VmHWM"),
         "unreachable": int(np.count_nonzero(~np.isfinite(distances))),

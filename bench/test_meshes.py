@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from meshes import read_obj, subdivide_midpoint, write_obj
+from meshes import kSubdivided, read_obj, select_meshes, subdivide_midpoint, write_obj
 
 # A unit tetrahedron: closed, 4 vertices, 6 edges, 4 faces, consistently oriented.
 kTetraPositions = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
@@ -82,3 +82,15 @@ def test_subdivision_splits_each_face_into_four_quarter_area_faces_keeping_orien
     edges = [(int(t[i]), int(t[(i + 1) % 3])) for t in triangles for i in range(3)]
     assert len(edges) == len(set(edges))
     assert all((b, a) in set(edges) for a, b in edges)
+
+
+def test_the_third_subdivision_is_made_only_when_named(tmp_path):
+    # A tetrahedron stands in for nefertiti: three levels give 4 * 64 faces in no time.
+    mesh_dir = tmp_path / "meshes"
+    mesh_dir.mkdir()
+    write_obj(mesh_dir / "nefertiti.obj", kTetraPositions, kTetraTriangles)
+    every = {mesh.name for mesh in select_meshes(mesh_dir, tmp_path / "work", None, kSubdivided)}
+    assert every == {"nefertiti", "nefertiti-sub1", "nefertiti-sub2"}
+    [sub3] = select_meshes(mesh_dir, tmp_path / "work", ["nefertiti-sub3"], kSubdivided)
+    assert (sub3.name, sub3.face_count) == ("nefertiti-sub3", 4 * 64)
+    assert read_obj(sub3.obj_path)[1].shape == (256, 3)

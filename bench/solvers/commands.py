@@ -13,6 +13,7 @@ import json
 import os
 import subprocess
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import ClassVar
 
@@ -104,6 +105,9 @@ class CgalSolver(BinarySolver):
 
 @dataclasses.dataclass
 class PeerSolver(Solver):
+    # What the reports use of peer_worker.py's stats.
+    stats_keys: ClassVar[list[str]] = ["build_seconds", "propagation_seconds", "rss_at_start_bytes"]
+
     module: str = ""  # what peer_worker.py imports
     package: str = ""  # the PyPI package that provides it
 
@@ -112,15 +116,18 @@ class PeerSolver(Solver):
             return f"{self.package} not installed (pip install -r bench/requirements.txt)"
         return None
 
+    def mesh_arguments(self, mesh: BenchMesh) -> list[str]:
+        """How peer_worker.py gets the mesh: the arrays bench/meshes.py made, loaded before its clocks start."""
+        return ["--vertices", str(mesh.vertices_path), "--triangles", str(mesh.triangles_path)]
+
     def command(self, mesh, source, distances, stats):
         command = [sys.executable, str(kBenchDir / "peer_worker.py"), "--solver", self.name]
-        command += ["--vertices", str(mesh.vertices_path), "--triangles", str(mesh.triangles_path)]
-        command += ["--source", str(source), "--stats", str(stats)]
+        command += self.mesh_arguments(mesh) + ["--source", str(source), "--stats", str(stats)]
         return command + (["--out", str(distances)] if distances else [])
 
     def read_stats(self, stats):
         data = json.loads(stats.read_text())
-        return {key: data[key] for key in ["build_seconds", "propagation_seconds", "rss_at_start_bytes"]}
+        return {key: data[key] for key in self.stats_keys}
 
 
 def make_solvers(names: list[str], exactgeo: Path, cgal_driver: Path) -> list[Solver]:
@@ -218,9 +225,13 @@ def variant_solver(configuration: Configuration, exactgeo: Path, timers: bool = 
                          configuration=configuration, timers=timers)
 
 
-def missing_cli_options(exactgeo: Path) -> list[str]:
-    """The variant options this exactgeo binary does not offer yet (all of them if it does not run)."""
-    wanted = ["--algorithm", "--no-rule1", "--no-rule23", "--timers"]
+kVariantOptions = ("--algorithm", "--no-rule1", "--no-rule23", "--timers")
+
+
+def missing_cli_options(exactgeo: Path, wanted: Sequence[str] = kVariantOptions) -> list[str]:
+    """The options of `wanted` (by default the variants') that this exactgeo binary's `distance` does not offer
+    (all of them if it does not run)."""
+    wanted = list(wanted)
     try:
         help_text = subprocess.run([str(exactgeo), "distance", "--help"], capture_output=True, text=True,
                                    timeout=30).stdout

@@ -60,6 +60,8 @@ class RunSettings:
     cgal_once_faces: int = 150_000  # CGAL runs once on meshes above this many faces
     # Skip a solver on meshes over this many faces (None: no limit).
     max_faces: dict[str, int | None] = dataclasses.field(default_factory=lambda: dict(kDefaultMaxFaces))
+    # Whose distances the others' errors are against: the first of these that ran.
+    reference_solvers: tuple[str, ...] = ("cgal", "exactgeo")
 
 
 # ------------------------------------------------------------------------------------------ one process
@@ -227,10 +229,12 @@ def error_against(distances: np.ndarray, reference: np.ndarray) -> dict:
     }
 
 
-def add_errors(records: list[dict], solvers: dict[str, Solver], run_dirs: dict[str, Path]) -> None:
-    """Reference: CGAL where it ran (its driver refuses meshes it cannot load as given), else exactgeo."""
+def add_errors(records: list[dict], solvers: dict[str, Solver], run_dirs: dict[str, Path],
+               reference_solvers: tuple[str, ...] = ("cgal", "exactgeo")) -> None:
+    """Reference: the first of reference_solvers that ran. By default CGAL where it ran (its driver refuses
+    meshes it cannot load as given), else exactgeo."""
     by_solver = {record["solver"]: record for record in records if record["status"] == "ok"}
-    reference_name = next((name for name in ("cgal", "exactgeo") if name in by_solver), None)
+    reference_name = next((name for name in reference_solvers if name in by_solver), None)
     if reference_name is None:
         return
 
@@ -306,7 +310,7 @@ def bench_mesh(mesh: BenchMesh, solvers: list[Solver], histories: dict[str, Solv
         for record in source_records.values():
             if record["status"] == "ok":
                 summarize(record)
-        add_errors(list(source_records.values()), {s.name: s for s in solvers}, run_dirs)
+        add_errors(list(source_records.values()), {s.name: s for s in solvers}, run_dirs, settings.reference_solvers)
         records.extend(source_records.values())
 
     for solver in active:
