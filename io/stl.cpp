@@ -2,6 +2,7 @@
 // merging equal positions (by value: -0 and 0 are one position), numbered in order of first appearance. A
 // binary file may also start with "solid", so the size decides: a binary file is exactly 84 + 50 * triangle
 // count bytes.
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <unordered_map>
 
 #include "readers.hpp"
+#include "same_position.hpp"
 
 namespace exactgeo::detail {
 namespace {
@@ -58,21 +60,39 @@ std::uint32_t load_uint32_le(const char* at) {
 
 float load_float_le(const char* at) { return std::bit_cast<float>(load_uint32_le(at)); }
 
-MeshSoup read_binary_stl(const MeshFile& file, std::uint32_t triangle_count) {
+// Corners are numbered by their first appearance, as VertexMerger numbers them, but found on the team: each
+// corner's first corner at the same position, then the first ones numbered in order.
+MeshSoup read_binary_stl(const MeshFile& file, std::uint32_t triangle_count, const ParallelTeam& team) {
+  const std::size_t corner_count = 3 * std::size_t{triangle_count};
+  const char* records = file.bytes.data() + kBinaryHeaderBytes;
+  const auto corner_position = [&](std::size_t corner) {
+    const char* at = records + corner / 3 * kBinaryTriangleBytes + 12 + 12 * (corner % 3);  // after the normal
+    return std::array<double, 3>{load_float_le(at), load_float_le(at + 4), load_float_le(at + 8)};
+  };
+  const std::size_t bad = team.reduce_ranges(
+      corner_count, 1 << 14, corner_count,
+      [&](std::size_t begin, std::size_t end) {
+        for (std::size_t c = begin; c < end; ++c) {
+          const auto [x, y, z] = corner_position(c);
+          if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return c;
+        }
+        return corner_count;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+  if (bad < corner_count) throw_file_error(file, "triangle " + std::to_string(bad / 3) + ": non-finite coordinate");
+  const std::vector<std::uint32_t> first = first_at_same_position(team, corner_count, corner_position);
+  std::vector<std::uint32_t> vertex(corner_count);
+  team.for_each(corner_count, 1 << 14, [&](std::size_t c) { vertex[c] = first[c] == c; });
+  const std::uint64_t vertex_count = exclusive_prefix_sum(team, vertex);
   MeshSoup soup;
-  soup.triangles.reserve(3 * std::size_t{triangle_count});
-  VertexMerger merger(soup, triangle_count / 2);  // closed meshes have about half as many vertices as faces
-  const char* record = file.bytes.data() + kBinaryHeaderBytes;
-  for (std::uint32_t t = 0; t < triangle_count; ++t, record += kBinaryTriangleBytes) {
-    for (int corner = 0; corner < 3; ++corner) {
-      const char* at = record + 12 + 12 * corner;  // skip the normal
-      const double x = load_float_le(at), y = load_float_le(at + 4), z = load_float_le(at + 8);
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-        throw_file_error(file, "triangle " + std::to_string(t) + ": non-finite coordinate");
-      }
-      soup.triangles.push_back(merger.index_of(x, y, z));
-    }
-  }
+  soup.positions.resize(3 * vertex_count);
+  soup.triangles.resize(corner_count);
+  team.for_each(corner_count, 1 << 14, [&](std::size_t c) {
+    soup.triangles[c] = vertex[first[c]];
+    if (first[c] != c) return;
+    const std::array<double, 3> p = corner_position(c);
+    std::copy(p.begin(), p.end(), soup.positions.begin() + 3 * std::ptrdiff_t(vertex[c]));
+  });
   return soup;
 }
 
@@ -125,11 +145,11 @@ bool starts_with_solid(std::string_view bytes) {
 
 }  // namespace
 
-MeshSoup read_stl(const MeshFile& file, const ParallelTeam&, std::size_t) {
+MeshSoup read_stl(const MeshFile& file, const ParallelTeam& team, std::size_t) {
   const std::string_view bytes = file.bytes;
   const std::uint32_t triangle_count = bytes.size() >= kBinaryHeaderBytes ? load_uint32_le(bytes.data() + 80) : 0;
   const std::uint64_t binary_size = kBinaryHeaderBytes + std::uint64_t{kBinaryTriangleBytes} * triangle_count;
-  if (bytes.size() >= kBinaryHeaderBytes && bytes.size() == binary_size) return read_binary_stl(file, triangle_count);
+  if (bytes.size() >= kBinaryHeaderBytes && bytes.size() == binary_size) return read_binary_stl(file, triangle_count, team);
   if (starts_with_solid(bytes)) return read_ascii_stl(file);
   if (bytes.size() < kBinaryHeaderBytes) {
     throw_file_error(file, "too short for a binary STL (" + std::to_string(bytes.size()) + " bytes, need 84)");

@@ -11,6 +11,7 @@
 
 #include "exactgeo/error.hpp"
 #include "mesh_build.hpp"
+#include "same_position.hpp"
 
 namespace exactgeo::detail {
 namespace {
@@ -82,29 +83,6 @@ std::vector<std::uint32_t> spatial_order(const ParallelTeam& team, std::size_t c
   return std::move(groups.items);
 }
 
-// A hash of an exact position; -0.0 and +0.0 are the same position.
-std::uint64_t position_hash(const Vec3& p) {
-  std::uint64_t h = 0x9e3779b97f4a7c15ull;
-  for (double c : p) {
-    const double normalized = c + 0.0;  // maps -0.0 to +0.0
-    std::uint64_t bits;
-    static_assert(sizeof bits == sizeof normalized);
-    __builtin_memcpy(&bits, &normalized, sizeof bits);
-    h = (h ^ bits) * 0xbf58476d1ce4e5b9ull;
-    h ^= h >> 31;
-  }
-  return h * 0x94d049bb133111ebull;
-}
-
-bool position_less(const Vec3& a, const Vec3& b) {
-  return a[0] != b[0] ? a[0] < b[0] : (a[1] != b[1] ? a[1] < b[1] : a[2] < b[2]);
-}
-
-// The halfedge of `h`'s face leaving vertex `v`, one of h's two ends (input vertices at corners).
-std::uint32_t corner_at(const std::vector<std::uint32_t>& corner_input_vertex, std::uint32_t h, std::uint32_t v) {
-  return corner_input_vertex[h] == v ? h : next_halfedge(h);
-}
-
 // The three vertices of a face in increasing order: equal for faces with the same vertex set.
 using VertexSet = std::array<std::uint32_t, 3>;
 
@@ -112,45 +90,10 @@ using VertexSet = std::array<std::uint32_t, 3>;
 
 void find_duplicate_positions(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   const std::size_t vertex_count = s.input_positions.size() / 3;
-  std::vector<std::uint32_t>& representative = state.same_position;
-  representative.resize(vertex_count);
-  const int bits = group_bits(vertex_count);
-  const Groups groups = group_by_key(team, vertex_count, std::size_t{1} << bits, [&](std::size_t v) {
-    return bits == 0 ? 0 : position_hash(input_position(s, static_cast<std::uint32_t>(v))) >> (64 - bits);
-  });
-  team.for_ranges(groups.offsets.size() - 1, kGrain, [&](std::size_t first, std::size_t last) {
-    std::vector<std::uint32_t> sorted;
-    for (std::size_t g = first; g < last; ++g) {
-      const std::uint32_t* items = groups.begin(g);
-      const std::size_t n = groups.size(g);
-      if (n <= kPairwiseGroup) {
-        // In increasing order: the first equal position met is the first vertex at it.
-        for (std::size_t j = 0; j < n; ++j) {
-          representative[items[j]] = items[j];
-          const Vec3 p = input_position(s, items[j]);
-          for (std::size_t i = 0; i < j; ++i)
-            if (input_position(s, items[i]) == p) {
-              representative[items[j]] = items[i];
-              break;
-            }
-        }
-        continue;
-      }
-      sorted.assign(items, items + n);
-      std::sort(sorted.begin(), sorted.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const Vec3 pa = input_position(s, a), pb = input_position(s, b);
-        return position_less(pa, pb) || (!position_less(pb, pa) && a < b);
-      });
-      for (std::size_t i = 0; i < n;) {
-        std::size_t j = i;
-        const Vec3 p = input_position(s, sorted[i]);
-        for (; j < n && input_position(s, sorted[j]) == p; ++j) representative[sorted[j]] = sorted[i];
-        i = j;
-      }
-    }
-  });
+  state.same_position = first_at_same_position(
+      team, vertex_count, [&](std::size_t v) { return input_position(s, static_cast<std::uint32_t>(v)); });
   s.report.duplicate_positions =
-      team.count_if(vertex_count, kGrain, [&](std::size_t v) { return representative[v] != v; });
+      team.count_if(vertex_count, kGrain, [&](std::size_t v) { return state.same_position[v] != v; });
 }
 
 void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& state, bool weld) {

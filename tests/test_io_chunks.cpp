@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -31,10 +32,11 @@ struct Outcome {
   std::string error;
 };
 
+// On more than one thread, every pass over items is cut into ranges of single items too.
 Outcome read_with(Reader reader, const MeshFile& file, WorkerPool& pool, std::size_t chunk_bytes) {
   Outcome outcome;
   try {
-    outcome.soup = reader(file, ParallelTeam{pool}, chunk_bytes);
+    outcome.soup = reader(file, ParallelTeam{pool, {}, pool.threads() > 1 ? 1u : 0u}, chunk_bytes);
   } catch (const exactgeo::Error& e) {
     outcome.error = e.what();
   }
@@ -95,6 +97,30 @@ TEST(IoChunks, RandomObjFilesReadTheSameInChunks) {
   for (int file = 0; file < 60; ++file) {
     const std::string text = random_obj(random, 20 + file * 3, file % 2 == 1);
     expect_same_as_serial(&exactgeo::detail::read_obj, text, "random OBJ " + std::to_string(file));
+  }
+}
+
+// A binary STL whose corners are drawn from a few positions, -0 and +0 among them, so that many are shared;
+// with `defect`, one corner somewhere is not finite.
+std::string random_binary_stl(std::mt19937_64& random, int triangles, bool defect) {
+  std::string bytes(80, ' ');
+  const auto put = [&](auto value) { bytes.append(reinterpret_cast<const char*>(&value), sizeof value); };
+  put(static_cast<std::uint32_t>(triangles));
+  const float pool[] = {0.0f, -0.0f, 1.0f, 2.5f, -3.0f};
+  const int bad = defect ? static_cast<int>(random() % (9 * triangles)) : -1;
+  for (int t = 0; t < triangles; ++t) {
+    for (int k = 0; k < 3; ++k) put(0.0f);  // the normal
+    for (int c = 0; c < 9; ++c) put(9 * t + c == bad ? std::numeric_limits<float>::infinity() : pool[random() % 5]);
+    put(std::uint16_t{0});
+  }
+  return bytes;
+}
+
+TEST(IoChunks, BinaryStlSharesCornersAsInOrder) {
+  std::mt19937_64 random(3804);
+  for (int file = 0; file < 20; ++file) {
+    const std::string bytes = random_binary_stl(random, 5 + file * 7, file % 3 == 2);
+    expect_same_as_serial(&exactgeo::detail::read_stl, bytes, "random STL " + std::to_string(file));
   }
 }
 

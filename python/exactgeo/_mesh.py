@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import atexit
 import os
 import threading
 import uuid
@@ -175,6 +176,8 @@ class Mesh:
 _unpickled: weakref.WeakValueDictionary[str, Mesh] = weakref.WeakValueDictionary()
 _last_unpickled: list[Mesh] = []
 _unpickled_lock = threading.Lock()
+# Let go before the interpreter tears the compiled module down (which counts what is still held as a leak).
+atexit.register(_last_unpickled.clear)
 
 
 def _rebuilt_mesh(vertices: np.ndarray, faces: np.ndarray, weld: bool, identity: str | None = None) -> Mesh:

@@ -43,6 +43,14 @@ def test_a_progress_function_hears_the_work_up_to_its_end(sheet, large):
     assert reports[-1] == (1000, 1000)
 
 
+def test_building_a_mesh_reports_progress_up_to_its_end(large):
+    reports: list[tuple[int, int]] = []
+    rebuilt = exactgeo.Mesh(large.vertices, large.faces, progress=lambda done, total: reports.append((done, total)))
+    assert rebuilt.report == large.report
+    assert reports and reports[-1] == (1000, 1000)
+    assert [d for d, _ in reports] == sorted(d for d, _ in reports)
+
+
 def test_progress_true_draws_a_tqdm_bar(sheet, capsys):
     exactgeo.distance_matrix(sheet, list(range(20)), progress=True)
     assert "rows" in capsys.readouterr().err
@@ -79,6 +87,10 @@ CTRL_C = textwrap.dedent(
             exactgeo.distance_matrix(small, [0] * 5000, threads=2)  # a minute of work
         elif call == "sampling":
             exactgeo.farthest_point_sampling(mesh, 100000)
+        elif call == "mesh":
+            vertices, faces = mesh.vertices.copy(), mesh.faces.copy()
+            while True:
+                exactgeo.Mesh(vertices, faces)
         else:
             while True:
                 exactgeo.distance(mesh, 0)
@@ -90,7 +102,7 @@ CTRL_C = textwrap.dedent(
 )
 
 
-@pytest.mark.parametrize("call", ["matrix", "sampling", "single"])
+@pytest.mark.parametrize("call", ["matrix", "sampling", "single", "mesh"])
 def test_ctrl_c_raises_keyboard_interrupt_in_long_calls(call):
     # Without the interrupt each call runs for a minute or more; the latency is printed, not asserted.
     done = subprocess.run([sys.executable, "-c", CTRL_C, call], capture_output=True, text=True, timeout=120)

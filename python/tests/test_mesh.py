@@ -189,6 +189,21 @@ def test_meshes_and_solvers_pickle_for_other_processes(tmp_path):
         np.testing.assert_array_equal(row, exactgeo.distance(mesh, source))
 
 
+def test_a_process_unpickling_the_same_mesh_again_builds_it_once():
+    import pickle
+
+    vertices, faces = exactgeo.make_bumpy_torus(24, 10)
+    mesh = exactgeo.Mesh(vertices, faces)
+    data = pickle.dumps(mesh)
+    first = pickle.loads(data)
+    assert pickle.loads(data) is first  # a task after another on the same worker: no second build
+    assert pickle.loads(pickle.dumps(first)) is first  # passed on from that worker: still the same mesh
+    other = pickle.loads(pickle.dumps(exactgeo.Mesh(vertices, faces)))  # equal arrays, another mesh
+    assert other is not first and other.report == first.report
+    welded = pickle.loads(pickle.dumps(exactgeo.Mesh(vertices, faces, weld_duplicate_positions=True)))
+    assert welded is not first and welded._weld
+
+
 def test_polygons_are_fan_triangulated_like_the_file_readers(tmp_path):
     vertices = [[0, 0, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [0, 1, 0], [1, 2, 0]]
     quads_and_a_triangle = [[0, 1, 4, 5], [1, 2, 3, 4], [5, 4, 6]]
