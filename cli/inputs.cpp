@@ -243,7 +243,8 @@ void add_threads_option(CLI::App& command, std::optional<unsigned>& threads) {
   command
       .add_option("--threads", threads,
                   "Threads sharing the propagation (0: one per core; default: one per 10,000 faces, up to one per "
-                  "core). The distances agree with one thread's to 1e-14 of the largest")
+                  "core), and reading and building the mesh (default: one per core). The distances agree with one "
+                  "thread's to 1e-14 of the largest; the mesh is the same on any count")
       ->check(count_check())
       ->type_name("N");
 }
