@@ -80,8 +80,8 @@ MeshSoup read_binary_stl(const MeshFile& file, std::uint32_t triangle_count, con
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
   if (bad < corner_count) throw_file_error(file, "triangle " + std::to_string(bad / 3) + ": non-finite coordinate");
-  const std::vector<std::uint32_t> first = first_at_same_position(team, corner_count, corner_position);
-  std::vector<std::uint32_t> vertex(corner_count);
+  const MeshArray<std::uint32_t> first = first_at_same_position(team, corner_count, corner_position);
+  MeshArray<std::uint32_t> vertex(corner_count);
   team.for_each(corner_count, 1 << 14, [&](std::size_t c) { vertex[c] = first[c] == c; });
   const std::uint64_t vertex_count = exclusive_prefix_sum(team, vertex);
   MeshSoup soup;

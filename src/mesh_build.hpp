@@ -53,13 +53,13 @@ Box bounding_box(const ParallelTeam& team, std::size_t count, PointOf&& point_of
 // What the steps hand each other besides the SurfaceMesh they fill.
 struct BuildState {
   // Each input vertex's representative: itself, or the first vertex at the same position.
-  std::vector<std::uint32_t> same_position;
+  MeshArray<std::uint32_t> same_position;
   // The input vertex at each corner of each kept face (after welding, if asked), 3 per face: in input
   // order after drop_repeated_faces, in the surface's face order after order_faces_in_space.
-  std::vector<std::uint32_t> corner_input_vertex;
+  MeshArray<std::uint32_t> corner_input_vertex;
   // The corners of each input vertex, in increasing order, and the number of its fans (match_edges).
   Groups corners_of_input_vertex;
-  std::vector<std::uint32_t> fan_count;
+  MeshArray<std::uint32_t> fan_count;
 };
 
 // Counts the vertices whose position repeats an earlier vertex's and records each one's representative.

@@ -46,7 +46,7 @@ void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
   const std::uint32_t face_count = s.face_count();
   s.halfedges.resize(3 * std::size_t{face_count});
   s.corner_angle.resize(3 * std::size_t{face_count});
-  std::vector<std::uint8_t> degenerate(face_count);
+  MeshArray<std::uint8_t> degenerate(face_count);
   team.for_each(face_count, kGrain, [&](std::size_t f) {
     const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
                                         s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),

@@ -51,11 +51,11 @@ std::uint64_t spread_bits(std::uint64_t x) {
 // stored in random order ran 29% slower than in its file's. Sorted by grouping on the codes' high bits, then
 // each group on its own.
 template <class PointOf, class TieOf>
-std::vector<std::uint32_t> spatial_order(const ParallelTeam& team, std::size_t count, PointOf&& point_of,
+MeshArray<std::uint32_t> spatial_order(const ParallelTeam& team, std::size_t count, PointOf&& point_of,
                                          TieOf&& tie_of) {
   const Box box = bounding_box(team, count, point_of);
   constexpr double kCells = (1 << 21) - 1;
-  std::vector<std::uint64_t> code(count);
+  MeshArray<std::uint64_t> code(count);
   team.for_each(count, kGrain, [&](std::size_t i) {
     const Vec3 p = point_of(i);
     std::uint64_t c = 0;
@@ -110,7 +110,7 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
   // A face with the same three vertices as a kept one (a double-sided export, say) would make each of its
   // edges an edge of four faces, which the policy cuts: it is dropped instead, and points on it are located
   // on the kept face. first_face[f]: the first face with f's vertex set, kNone if f repeats a vertex.
-  std::vector<std::uint32_t> first_face(face_count);
+  MeshArray<std::uint32_t> first_face(face_count);
   {
     const Groups by_lowest = group_by_key(team, face_count, vertex_count,
                                           [&](std::size_t f) { return vertex_set(f)[0]; });
@@ -152,7 +152,7 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
     });
   }
   // Kept faces are numbered in input order.
-  std::vector<std::uint32_t> kept_index(face_count);
+  MeshArray<std::uint32_t> kept_index(face_count);
   team.for_each(face_count, kGrain, [&](std::size_t f) { kept_index[f] = first_face[f] == f; });
   report.faces_used = exclusive_prefix_sum(team, kept_index);
   report.faces_repeating_a_vertex = team.count_if(face_count, kGrain, [&](std::size_t f) { return first_face[f] == kNone; });
@@ -161,7 +161,7 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
     throw Error(ErrorCode::invalid_mesh, "mesh has no usable face: all " + std::to_string(report.faces) +
                                              " faces repeat a vertex");
 
-  std::vector<std::uint8_t> used(vertex_count, 0);
+  MeshArray<std::uint8_t> used(vertex_count, 0);
   s.input_face_to_surface.resize(face_count);
   s.surface_face_to_input.resize(report.faces_used);
   state.corner_input_vertex.resize(3 * report.faces_used);
@@ -187,9 +187,9 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
 }
 
 void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
-  std::vector<std::uint32_t>& corners = state.corner_input_vertex;
+  MeshArray<std::uint32_t>& corners = state.corner_input_vertex;
   const std::size_t face_count = corners.size() / 3;
-  std::vector<Vec3> centroids(face_count);
+  MeshArray<Vec3> centroids(face_count);
   team.for_each(face_count, kGrain, [&](std::size_t f) {
     Vec3& c = centroids[f];
     c = {0, 0, 0};
@@ -197,10 +197,10 @@ void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& 
       for (std::size_t corner = 3 * f; corner < 3 * f + 3; ++corner)  // thirds summed: no overflow
         c[k] += s.input_positions[3 * std::size_t{corners[corner]} + k] / 3;
   });
-  const std::vector<std::uint32_t> order = spatial_order(
+  const MeshArray<std::uint32_t> order = spatial_order(
       team, face_count, [&](std::size_t f) { return centroids[f]; }, [](std::size_t f) { return f; });
   centroids = {};
-  std::vector<std::uint32_t> ordered_corners(corners.size()), face_to_input(face_count), renumbered(face_count);
+  MeshArray<std::uint32_t> ordered_corners(corners.size()), face_to_input(face_count), renumbered(face_count);
   team.for_each(face_count, kGrain, [&](std::size_t f) {
     const std::uint32_t old = order[f];
     std::copy_n(corners.begin() + 3 * std::ptrdiff_t{old}, 3, ordered_corners.begin() + 3 * std::ptrdiff_t(f));
@@ -216,7 +216,7 @@ void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& 
 }
 
 void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
-  const std::vector<std::uint32_t>& corners = state.corner_input_vertex;
+  const MeshArray<std::uint32_t>& corners = state.corner_input_vertex;
   const std::size_t corner_count = corners.size(), vertex_count = s.input_positions.size() / 3;
   state.corners_of_input_vertex =
       group_by_key(team, corner_count, vertex_count, [&](std::size_t c) { return corners[c]; });
@@ -304,25 +304,25 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
 void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   const std::size_t corner_count = state.corner_input_vertex.size(), vertex_count = s.input_positions.size() / 3;
   const Groups& corners_of = state.corners_of_input_vertex;
-  const std::vector<std::uint32_t>& fan_count = state.fan_count;
+  const MeshArray<std::uint32_t>& fan_count = state.fan_count;
   // Surface vertices are numbered in spatial order of their input vertices, the copies of one input vertex
   // by first corner. Only the vertices of kept faces count: an unreferenced vertex far away would stretch
   // the box. Ties of position go to the vertex met first in the faces.
-  std::vector<std::uint32_t> used(vertex_count);
+  MeshArray<std::uint32_t> used(vertex_count);
   team.for_each(vertex_count, kGrain, [&](std::size_t v) { used[v] = fan_count[v] > 0; });
   const std::size_t used_count = exclusive_prefix_sum(team, used);
-  std::vector<std::uint32_t> used_vertices(used_count);
+  MeshArray<std::uint32_t> used_vertices(used_count);
   team.for_each(vertex_count, kGrain, [&](std::size_t v) {
     if (fan_count[v] > 0) used_vertices[used[v]] = static_cast<std::uint32_t>(v);
   });
   used = {};
-  std::vector<std::uint32_t> order = spatial_order(
+  MeshArray<std::uint32_t> order = spatial_order(
       team, used_count, [&](std::size_t i) { return input_position(s, used_vertices[i]); },
       [&](std::size_t i) { return corners_of.begin(used_vertices[i])[0]; });
   team.for_each(used_count, kGrain, [&](std::size_t rank) { order[rank] = used_vertices[order[rank]]; });
   used_vertices = {};
   // First surface vertex and first corner of each input vertex, in that order.
-  std::vector<std::uint32_t> first_copy(used_count), first_corner(used_count);
+  MeshArray<std::uint32_t> first_copy(used_count), first_corner(used_count);
   team.for_each(used_count, kGrain, [&](std::size_t rank) {
     first_copy[rank] = fan_count[order[rank]];
     first_corner[rank] = static_cast<std::uint32_t>(corners_of.size(order[rank]));
@@ -358,7 +358,7 @@ void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state
 
   // The copies of each input vertex: consecutive surface vertices.
   s.report.non_manifold_vertices = team.count_if(vertex_count, kGrain, [&](std::size_t v) { return fan_count[v] > 1; });
-  std::vector<std::uint32_t> copy_of_rank = std::move(first_copy);
+  MeshArray<std::uint32_t> copy_of_rank = std::move(first_copy);
   s.input_copies_offsets.resize(vertex_count + 1);
   team.for_each(vertex_count, kGrain, [&](std::size_t v) { s.input_copies_offsets[v] = fan_count[v]; });
   s.input_copies_offsets[vertex_count] = 0;

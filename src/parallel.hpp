@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "stop.hpp"
+#include "surface_mesh.hpp"
 #include "worker_pool.hpp"
 
 namespace exactgeo::detail {
@@ -95,7 +96,8 @@ struct ParallelTeam {
 
 // Turns counts into offsets in place: values[i] becomes the sum of the values before it; returns the total.
 // Summed by ranges on the team, then the ranges' totals once in order.
-inline std::uint64_t exclusive_prefix_sum(const ParallelTeam& team, std::vector<std::uint32_t>& values) {
+template <class Array>
+std::uint64_t exclusive_prefix_sum(const ParallelTeam& team, Array& values) {
   constexpr std::size_t kGrain = 1 << 16;
   const std::size_t ranges = std::max<std::size_t>(team.range_count(values.size(), kGrain), 1);
   std::vector<std::uint64_t> range_total(ranges + 1, 0);
@@ -120,8 +122,8 @@ inline std::uint64_t exclusive_prefix_sum(const ParallelTeam& team, std::vector<
 // Items grouped by key, in compressed form: group k holds items[offsets[k] .. offsets[k + 1]), in increasing
 // item order (a stable counting sort).
 struct Groups {
-  std::vector<std::uint32_t> offsets;  // group_count + 1
-  std::vector<std::uint32_t> items;
+  MeshArray<std::uint32_t> offsets;  // group_count + 1
+  MeshArray<std::uint32_t> items;
 
   std::size_t size(std::size_t group) const { return offsets[group + 1] - offsets[group]; }
   const std::uint32_t* begin(std::size_t group) const { return items.data() + offsets[group]; }
@@ -137,10 +139,13 @@ Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t gro
   constexpr std::size_t kGrain = 1 << 14;
   constexpr std::size_t kCoarseGroups = 1 << 12;
   Groups groups;
-  groups.offsets.assign(group_count + 1, 0);
+  groups.offsets.resize(group_count + 1);
   groups.items.resize(count);
-  if (count == 0) return groups;
-  std::vector<std::uint32_t> keys(count);
+  if (count == 0) {
+    std::fill(groups.offsets.begin(), groups.offsets.end(), 0u);
+    return groups;
+  }
+  MeshArray<std::uint32_t> keys(count);
   team.for_ranges(count, kGrain, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) keys[i] = static_cast<std::uint32_t>(key_of(i));
   });
@@ -169,7 +174,7 @@ Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t gro
     }
   }
   coarse_offsets[coarse_count] = running;
-  std::vector<std::uint32_t> by_coarse(count);
+  MeshArray<std::uint32_t> by_coarse(count);
   team.pool.run(ranges, [&](std::size_t r, unsigned) {
     const auto [begin, end] = range_of(r);
     std::uint32_t* row = counters.data() + r * coarse_count;
@@ -181,6 +186,7 @@ Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t gro
     for (std::size_t g = first; g < last; ++g) {
       const std::size_t low = g << shift, high = std::min(group_count, (g + 1) << shift);
       std::uint32_t* offsets = groups.offsets.data() + low;
+      std::fill(offsets, offsets + (high - low), 0u);
       for (std::uint32_t j = coarse_offsets[g]; j < coarse_offsets[g + 1]; ++j) ++offsets[keys[by_coarse[j]] - low];
       std::uint32_t at = coarse_offsets[g];
       for (std::size_t k = 0; k < high - low; ++k) {

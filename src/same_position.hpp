@@ -39,10 +39,10 @@ inline bool position_less(const Point& a, const Point& b) {
 // Points are grouped by a hash of their position; groups of a few are compared pairwise, larger ones (many
 // points at one position) sorted, so that no input is quadratic.
 template <class PositionOf>
-std::vector<std::uint32_t> first_at_same_position(const ParallelTeam& team, std::size_t count, PositionOf&& position_of) {
+MeshArray<std::uint32_t> first_at_same_position(const ParallelTeam& team, std::size_t count, PositionOf&& position_of) {
   using namespace same_position_detail;
   constexpr std::size_t kPairwise = 16;
-  std::vector<std::uint32_t> first(count);
+  MeshArray<std::uint32_t> first(count);
   int bits = 0;
   while (bits < 30 && (std::size_t{1} << bits) < count) ++bits;
   const Groups groups = group_by_key(team, count, std::size_t{1} << bits, [&](std::size_t i) {

@@ -10,7 +10,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <new>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "exactgeo/mesh.hpp"
@@ -18,6 +21,29 @@
 namespace exactgeo::detail {
 
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// An array of the surface: its elements start uninitialised, so that the build's passes, which write every
+// element on the thread team, are not preceded by one thread zeroing (and first touching) the whole array.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;  // default-initialised: left as it is for numbers and plain structs
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using MeshArray = std::vector<T, UninitializedAllocator<T>>;
 
 inline std::uint32_t face_of(std::uint32_t halfedge) { return halfedge / 3; }
 inline std::uint32_t next_halfedge(std::uint32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
@@ -55,38 +81,38 @@ struct SurfaceMesh {
 
   // Surface vertices: input vertices, split where non-manifold.
   std::uint32_t vertex_count = 0;
-  std::vector<std::uint32_t> surface_to_input;         // surface vertex -> input vertex
-  std::vector<std::uint32_t> input_copies_offsets;     // input vertex -> [offsets[v], offsets[v+1]) in input_copies
-  std::vector<std::uint32_t> input_copies;             // surface vertices of each input vertex
-  std::vector<std::uint32_t> canonical_input;          // input vertex -> the one it was welded into (or itself)
+  MeshArray<std::uint32_t> surface_to_input;         // surface vertex -> input vertex
+  MeshArray<std::uint32_t> input_copies_offsets;     // input vertex -> [offsets[v], offsets[v+1]) in input_copies
+  MeshArray<std::uint32_t> input_copies;             // surface vertices of each input vertex
+  MeshArray<std::uint32_t> canonical_input;          // input vertex -> the one it was welded into (or itself)
 
   // Faces that survived validation (faces repeating a vertex are dropped), each keeping its input corner
   // order. Faces, and surface vertices, are numbered in spatial order, not in input order (mesh.cpp,
   // spatial_order): the maps below and surface_to_input lead back to the input.
-  std::vector<std::uint32_t> input_face_to_surface;  // input triangle -> surface face, kNone if dropped
-  std::vector<std::uint32_t> surface_face_to_input;  // surface face -> input triangle
-  std::vector<std::uint32_t> corner_vertex;   // 3 per face: surface vertex at each corner
-  std::vector<std::uint32_t> twin;            // per halfedge: the halfedge across its edge, or kNone
-  std::vector<HalfedgeGeometry> halfedges;    // per halfedge
-  std::vector<double> corner_angle;           // per corner (= halfedge leaving it): the angle at its tail
+  MeshArray<std::uint32_t> input_face_to_surface;  // input triangle -> surface face, kNone if dropped
+  MeshArray<std::uint32_t> surface_face_to_input;  // surface face -> input triangle
+  MeshArray<std::uint32_t> corner_vertex;   // 3 per face: surface vertex at each corner
+  MeshArray<std::uint32_t> twin;            // per halfedge: the halfedge across its edge, or kNone
+  MeshArray<HalfedgeGeometry> halfedges;    // per halfedge
+  MeshArray<double> corner_angle;           // per corner (= halfedge leaving it): the angle at its tail
 
   // Corners around each surface vertex (corner c = halfedge index of the halfedge leaving that corner).
-  std::vector<std::uint32_t> vertex_corner_offsets;
-  std::vector<std::uint32_t> vertex_corners;
+  MeshArray<std::uint32_t> vertex_corner_offsets;
+  MeshArray<std::uint32_t> vertex_corners;
 
   // Vertices where geodesics can bend: saddles, boundary vertices with angle above pi, vertices of
   // degenerate faces (kept conservatively). They re-emit windows as pseudo-sources.
-  std::vector<std::uint8_t> is_pseudo_source;
+  MeshArray<std::uint8_t> is_pseudo_source;
 
   // Angles around each vertex, walking its fan of corners from one boundary edge (or any edge if the fan
   // is closed). Corner c (the halfedge leaving its vertex) is entered through its edge c when
   // corner_enters_forward[c], else through its other edge at the vertex (prev(c)); fan_angle_start[c] is
   // the angle already walked when entering it. Vertices of degenerate faces have no reliable fan angles.
-  std::vector<double> fan_angle_start;             // per corner
-  std::vector<std::uint8_t> corner_enters_forward;  // per corner
-  std::vector<double> fan_total_angle;              // per vertex
-  std::vector<std::uint8_t> fan_closed;             // per vertex: no boundary edge around it
-  std::vector<std::uint8_t> fan_angles_reliable;    // per vertex
+  MeshArray<double> fan_angle_start;             // per corner
+  MeshArray<std::uint8_t> corner_enters_forward;  // per corner
+  MeshArray<double> fan_total_angle;              // per vertex
+  MeshArray<std::uint8_t> fan_closed;             // per vertex: no boundary edge around it
+  MeshArray<std::uint8_t> fan_angles_reliable;    // per vertex
 
   double length_scale = 1.0;  // bounding-box diagonal of the used vertices (in the engine's frame)
   double mean_edge_length = 0;  // over the halfedges (each inner edge counted twice)

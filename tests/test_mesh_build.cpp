@@ -9,6 +9,7 @@
 #include <stop_token>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,7 @@ std::shared_ptr<const SurfaceMesh> build(const MeshSoup& soup, bool weld, unsign
 }
 
 // Doubles compared by their bits: -0 and 0, or two NaNs, must not pass for one another.
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+bool same_bits(std::span<const double> a, std::span<const double> b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
@@ -66,7 +67,8 @@ testing::AssertionResult same_surface(const SurfaceMesh& a, const SurfaceMesh& b
   check(same_bits(a.fan_total_angle, b.fan_total_angle), "fan_total_angle");
   check(a.fan_closed == b.fan_closed, "fan_closed");
   check(a.fan_angles_reliable == b.fan_angles_reliable, "fan_angles_reliable");
-  check(same_bits({a.length_scale, a.mean_edge_length}, {b.length_scale, b.mean_edge_length}), "length scales");
+  const double a_scales[] = {a.length_scale, a.mean_edge_length}, b_scales[] = {b.length_scale, b.mean_edge_length};
+  check(same_bits(a_scales, b_scales), "length scales");
   if (differs.empty()) return testing::AssertionSuccess();
   return testing::AssertionFailure() << "differs in " << differs;
 }
