@@ -166,19 +166,24 @@ int run_distance(const DistanceArguments& arguments) {
   // then applies to the vertex distances alone.
   const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";
 
-  exactgeo::GeodesicSolver solver(mesh);
-  Progress progress("vertices", mesh.vertex_count(), arguments.quiet);
-  solver.set_progress([&](double fraction) {
-    progress.update(static_cast<std::size_t>(fraction * static_cast<double>(mesh.vertex_count())));
-  });
   const exactgeo::GeodesicOptions options{.algorithm = exactgeo::parse_algorithm(arguments.algorithm),
                                           .rule1 = !arguments.no_rule1,
                                           .rule23 = !arguments.no_rule23,
                                           .max_distance = exact_targets ? HUGE_VAL : arguments.max_distance,
                                           .collect_timings = arguments.timers,
                                           .threads = threads_for(arguments.threads, mesh)};
-  exactgeo::GeodesicResult result = solve(solver, sources, targets, options);
-  progress.finish();
+  // The solver (its window lists and per-vertex state) goes before the outputs are written: they need only
+  // the result, and the process's peak memory is the larger of the two phases, not their sum.
+  exactgeo::GeodesicResult result = [&] {
+    exactgeo::GeodesicSolver solver(mesh);
+    Progress progress("vertices", mesh.vertex_count(), arguments.quiet);
+    solver.set_progress([&](double fraction) {
+      progress.update(static_cast<std::size_t>(fraction * static_cast<double>(mesh.vertex_count())));
+    });
+    exactgeo::GeodesicResult solved = solve(solver, sources, targets, options);
+    progress.finish();
+    return solved;
+  }();
   if (exact_targets)
     for (std::size_t v = 0; v < result.distances.size(); ++v)
       if (result.distances[v] > arguments.max_distance) {

@@ -13,6 +13,10 @@
 #include "exactgeo/version.hpp"
 #include "outputs.hpp"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace {
 
 using namespace exactgeo::cli;
@@ -27,9 +31,20 @@ int usage_error(std::string_view message) {
   return kExitUsage;
 }
 
+// Arrays of a megabyte and more (a mesh's, the engine's, the build's scratch) are mapped from the system one by
+// one and given back when freed. glibc would otherwise raise its mapping threshold after the first such
+// array is freed and carve later ones from its heap, where what the build frees still counts against the
+// run's memory (400K faces: 2-3 MB of a 128 MB peak).
+void map_large_arrays_apart() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  map_large_arrays_apart();
   CLI::App app{"exactgeo: exact geodesic distances on triangle meshes (VTP algorithm)", "exactgeo"};
   app.set_version_flag("--version", std::string("exactgeo ") + exactgeo::kVersion);
   app.require_subcommand(1);

@@ -178,12 +178,10 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
     }
   });
   report.unreferenced_vertices = team.count_if(vertex_count, kGrain, [&](std::size_t v) { return !used[v]; });
-  s.canonical_input.resize(vertex_count);
-  team.for_each(vertex_count, kGrain, [&](std::size_t v) {
-    s.canonical_input[v] = weld ? state.same_position[v] : static_cast<std::uint32_t>(v);
-  });
-  if (weld)
+  if (weld) {
+    s.canonical_input.assign(state.same_position.begin(), state.same_position.end());
     report.welded_vertices = team.count_if(vertex_count, kGrain, [&](std::size_t v) { return s.canonical_input[v] != v; });
+  }
 }
 
 void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {

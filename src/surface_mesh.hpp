@@ -84,7 +84,11 @@ struct SurfaceMesh {
   MeshArray<std::uint32_t> surface_to_input;         // surface vertex -> input vertex
   MeshArray<std::uint32_t> input_copies_offsets;     // input vertex -> [offsets[v], offsets[v+1]) in input_copies
   MeshArray<std::uint32_t> input_copies;             // surface vertices of each input vertex
-  MeshArray<std::uint32_t> canonical_input;          // input vertex -> the one it was welded into (or itself)
+  // Input vertex -> the one it was welded into (or itself); empty unless welding, when every vertex is its own.
+  MeshArray<std::uint32_t> canonical_input;
+  std::uint32_t canonical(std::uint32_t input_vertex) const {
+    return canonical_input.empty() ? input_vertex : canonical_input[input_vertex];
+  }
 
   // Faces that survived validation (faces repeating a vertex are dropped), each keeping its input corner
   // order. Faces, and surface vertices, are numbered in spatial order, not in input order (mesh.cpp,
@@ -119,7 +123,7 @@ struct SurfaceMesh {
 
   // Surface vertices that carry input vertex v's distance (none if v is used by no face).
   std::span<const std::uint32_t> copies_of(std::uint32_t input_vertex) const {
-    const std::uint32_t c = canonical_input[input_vertex];
+    const std::uint32_t c = canonical(input_vertex);
     return {input_copies.data() + input_copies_offsets[c], input_copies.data() + input_copies_offsets[c + 1]};
   }
   std::uint32_t face_count() const { return static_cast<std::uint32_t>(corner_vertex.size() / 3); }

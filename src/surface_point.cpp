@@ -35,7 +35,7 @@ LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const st
   const std::uint32_t kept = mesh.surface_face_to_input[located.face];
   if (kept != point.face) {
     const auto corner = [&](std::uint32_t face, int k) {
-      return mesh.canonical_input[mesh.input_triangles[3 * face + k]];
+      return mesh.canonical(mesh.input_triangles[3 * face + k]);
     };
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 3; ++j)
@@ -69,7 +69,7 @@ LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const st
 }
 
 std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex) {
-  const std::size_t vertex_count = mesh.canonical_input.size();
+  const std::size_t vertex_count = mesh.input_positions.size() / 3;
   if (vertex >= vertex_count)
     throw Error(ErrorCode::invalid_argument, "source vertex " + std::to_string(vertex) +
                                                  " is out of range (mesh has " + std::to_string(vertex_count) +
@@ -111,7 +111,7 @@ SurfacePoint edge_point(const Mesh& mesh, std::uint32_t from, std::uint32_t to, 
   if (from >= mesh.vertex_count() || to >= mesh.vertex_count())
     throw Error(ErrorCode::invalid_argument, edge + " names a vertex out of range (mesh has " +
                                                  std::to_string(mesh.vertex_count()) + " vertices)");
-  const std::uint32_t target = s.canonical_input[to];
+  const std::uint32_t target = s.canonical(to);
   for (std::uint32_t copy : s.copies_of(from)) {
     for (std::uint32_t i = s.vertex_corner_offsets[copy]; i < s.vertex_corner_offsets[copy + 1]; ++i) {
       const std::uint32_t corner = s.vertex_corners[i];
