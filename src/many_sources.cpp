@@ -8,6 +8,7 @@
 #include <exception>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <thread>
 
 #include "exactgeo/error.hpp"
@@ -70,7 +71,12 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
     };
     const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads, rows));
     std::vector<std::jthread> pool;
-    for (unsigned t = 1; t < workers; ++t) pool.emplace_back(work, std::ref(solvers[t]));
+    try {
+      for (unsigned t = 1; t < workers; ++t) pool.emplace_back(work, std::ref(solvers[t]));
+    } catch (const std::system_error&) {
+      // The system would not start another thread (a process or address-space limit): the rows are shared
+      // from one counter, so the threads that started do them all.
+    }
     work(solvers[0]);
     pool.clear();  // joins
     if (failure) std::rethrow_exception(failure);

@@ -132,8 +132,12 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   emit_queue_.clear();
   iteration_ = 0;
   register_targets(targets);
-  const unsigned threads = face_sorted_ ? 1 : threads_or_cores(options.threads);
-  if (threads > 1 && (!pool_ || pool_->threads() != threads)) pool_ = std::make_unique<WorkerPool>(threads);
+  const unsigned wanted = face_sorted_ ? 1 : threads_or_cores(options.threads);
+  if (wanted > 1 && (!pool_ || pool_asked_ != wanted)) {
+    pool_ = std::make_unique<WorkerPool>(wanted);
+    pool_asked_ = wanted;
+  }
+  const unsigned threads = wanted > 1 ? pool_->threads() : 1;  // fewer if the system would not start them all
   lists_.reset(mesh_.halfedges.size(), threads, [&](std::size_t count, const auto& clear) {
     if (threads == 1) return clear(0, count);
     pool_->run(threads, [&](std::size_t part, unsigned) { clear(count * part / threads, count * (part + 1) / threads); });

@@ -203,6 +203,7 @@ class VtpEngine {
   std::uint64_t band_index_ = 0;         // of the band under way
   std::vector<std::uint64_t> band_of_;   // per vertex: the band it was last filed in
   std::unique_ptr<WorkerPool> pool_;
+  unsigned pool_asked_ = 0;  // the threads pool_ was asked for: it may have fewer, if the system refused some
   std::vector<ThreadScratch> scratch_;
   std::vector<std::uint32_t> band_;  // the vertices a band moves inside
   // One lock per face guards the lists of its three halfedges (entering a face takes one lock, not three).

@@ -16,6 +16,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -34,6 +35,7 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
+  // The threads in the team: as many as asked for, or fewer if the system would not start them all.
   unsigned threads() const { return static_cast<unsigned>(workers_.size()) + 1; }
   // More threads than cores: a thread that waits should give its core up at once rather than spin.
   bool oversubscribed() const { return spin_time_ == std::chrono::microseconds(0); }
@@ -110,11 +112,17 @@ inline constexpr std::uint64_t kClosed = 0xffffffffu;
 
 // With more threads than cores, a spinning worker holds a core that the caller or another worker could use:
 // it sleeps at once.
+// A thread the system will not start (a limit on processes or on address space, common on clusters) leaves
+// the team with the threads that did start: every thread takes items from every share once its own is done,
+// so the shares of the missing threads are still worked off, by the others. threads() says how many there are.
 inline WorkerPool::WorkerPool(unsigned threads)
     : shares_(threads),
       spin_time_(threads > std::thread::hardware_concurrency() ? std::chrono::microseconds(0)
                                                                : worker_pool_detail::kSpinTime) {
-  for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
+  try {
+    for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
+  } catch (const std::system_error&) {
+  }
 }
 
 inline WorkerPool::~WorkerPool() {

@@ -994,3 +994,30 @@ TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
 }
 
 }  // namespace
+
+namespace {
+
+// Under an address-space limit (common on clusters) the system refuses most of 64 threads: the runs go on
+// with those it starts and give one thread's answers, instead of waiting forever for threads that never came
+// (issue 34). `timeout` turns a hang into a failure.
+TEST_F(Cli, RunsGoOnWithTheThreadsTheSystemStarts) {
+  ASSERT_EQ(run("distance @grid:30:30 --source 0 --threads 1 --out " + arg("one.txt")).exit_code, 0);
+  ASSERT_EQ(run("matrix @grid:30:30 --sources 0 5 --threads 1 --out " + arg("one.csv")).exit_code, 0);
+  const auto limited = [&](const std::string& arguments) {
+    const std::string command = "(ulimit -v 307200; timeout 120 '" EXACTGEO_CLI_PATH "' " + arguments + ") >/dev/null 2>" +
+                                arg("limited.err");
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(limited("distance @grid:30:30 --source 0 --threads 64 --out " + arg("many.txt")), 0)
+      << read_file(path("limited.err"));
+  const std::vector<double> many = parse_txt(path("many.txt")), one = parse_txt(path("one.txt"));
+  ASSERT_EQ(many.size(), one.size());
+  const double largest = *std::max_element(one.begin(), one.end());
+  for (std::size_t v = 0; v < one.size(); ++v) EXPECT_NEAR(many[v], one[v], 1e-14 * largest) << "vertex " << v;
+  EXPECT_EQ(limited("matrix @grid:30:30 --sources 0 5 --threads 64 --out " + arg("many.csv")), 0)
+      << read_file(path("limited.err"));
+  EXPECT_EQ(read_file(path("many.csv")), read_file(path("one.csv")));
+}
+
+}  // namespace

@@ -140,3 +140,28 @@ def test_one_solver_per_thread_gives_each_thread_its_own_paths(sheet):
         t.join()
     for source, found in lengths.items():
         assert found == [expected[source]] * 30
+
+
+LIMITED_THREADS = textwrap.dedent(
+    """
+    import exactgeo, numpy as np
+    mesh = exactgeo.Mesh(*exactgeo.make_bumpy_torus(40, 20))
+    many, one = exactgeo.distance(mesh, 0, threads=64), exactgeo.distance(mesh, 0, threads=1)
+    print(bool(np.max(np.abs(many - one)) <= 1e-14 * one.max()))
+    """
+)
+
+
+def test_a_run_goes_on_with_the_threads_the_system_starts():
+    # Under an address-space limit (common on clusters) the system refuses most of 64 threads; the run used to
+    # wait for them forever. The timeout turns a hang into a failure.
+    import os
+    import resource
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (300 << 20, 300 << 20))
+
+    done = subprocess.run([sys.executable, "-c", LIMITED_THREADS], preexec_fn=limit, capture_output=True, text=True,
+                          timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "True"
