@@ -661,6 +661,22 @@ TEST_F(Cli, PathOnAFlatGridIsTheDiagonal) {
   EXPECT_NE(printed.out.find("path length"), std::string::npos) << printed.out;
 }
 
+// Issue 34, finding 1: vertices 2 and 3 coincide, an edge of the zero-area face (1 3 2) of zero length, and
+// `path` exited 3 with "internal error: path tracing failed". The surface is the flat triangle 0 1 2, so the
+// path is the straight segment, to either vertex.
+TEST_F(Cli, PathThroughCoincidentVertices) {
+  write_file(path("d.obj"), "v 0 0 0\nv 1 0 1\nv 0 1 2\nv 0 1 2\nf 1 2 3\nf 2 4 3\n");
+  for (const int target : {2, 3}) {
+    const RunResult result =
+        run("path " + arg("d.obj") + " --source 0 --target " + std::to_string(target) + " --out " + arg("p.json"));
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const nlohmann::json path_json = nlohmann::json::parse(read_file(path("p.json")));
+    EXPECT_NEAR(path_json["length"].get<double>(), std::sqrt(5.0), 1e-12 * std::sqrt(5.0)) << "target " << target;
+    EXPECT_EQ(path_json["locations"].front()["vertex"], 0);
+    EXPECT_EQ(path_json["locations"].back()["vertex"], target);
+  }
+}
+
 // Reads a 2-D little-endian float64 .npy (rows x columns).
 std::vector<double> parse_npy_matrix(const fs::path& path, std::size_t rows, std::size_t columns) {
   const std::string bytes = read_file(path);
