@@ -342,10 +342,7 @@ GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
                                                  std::to_string(mesh_->vertex_count()) + " vertices)");
   if (result_.distances.empty()) throw Error(ErrorCode::invalid_argument, "no run to trace a path in: solve first");
   if (std::isinf(result_.distances[vertex])) return {};
-  // The surface copy of the vertex that carries its distance: the nearest.
-  std::uint32_t copy = detail::kNone;
-  for (std::uint32_t s : mesh_->surface().copies_of(vertex))
-    if (copy == detail::kNone || engine_->distances()[s] < engine_->distances()[copy]) copy = s;
+  const std::uint32_t copy = mesh_->surface().nearest_copy(vertex, engine_->distances());  // carries its distance
   EXACTGEO_ASSERT(copy != detail::kNone);
   GeodesicPath path = detail::PathBuilder(*mesh_, *engine_).trace_vertex(copy);
   path.source = result_.nearest_source[vertex];
@@ -356,18 +353,17 @@ GeodesicPath GeodesicSolver::path_to_target(std::size_t target) const {
   if (target >= result_.target_distances.size())
     throw Error(ErrorCode::invalid_argument, "target " + std::to_string(target) + " is out of range (the last run had " +
                                                  std::to_string(result_.target_distances.size()) + " targets)");
-  if (std::isinf(result_.target_distances[target])) return {};
   const detail::LocatedPoint& point = engine_->targets()[target];
-  detail::PathBuilder builder(*mesh_, *engine_);
-  GeodesicPath path;
-  if (point.vertex != detail::kNone) {
-    path = builder.trace_vertex(point.vertex);
-  } else {
-    PathPointLocation location;
-    location.kind = PathPointLocation::Kind::face;
-    location.face_point = {mesh_->surface().surface_face_to_input[point.face], point.barycentric};
-    path = builder.trace(point_position(*mesh_, location.face_point), location, engine_->target_arrivals()[target]);
-  }
+  // A point at a vertex (or at a corner of a face) is that input vertex: its path goes to the copy that has
+  // its distance.
+  if (point.vertex != detail::kNone) return path_to_vertex(mesh_->surface().surface_to_input[point.vertex]);
+  if (std::isinf(result_.target_distances[target])) return {};
+  PathPointLocation location;
+  location.kind = PathPointLocation::Kind::face;
+  location.face_point = {mesh_->surface().surface_face_to_input[point.face], point.barycentric};
+  GeodesicPath path = detail::PathBuilder(*mesh_, *engine_)
+                          .trace(point_position(*mesh_, location.face_point), location,
+                                 engine_->target_arrivals()[target]);
   path.source = result_.target_nearest_source[target];
   return path;
 }
