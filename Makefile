@@ -96,8 +96,9 @@ test-tsan: deps
 	cmake --build $(TSAN_BUILD_DIR) -j $(JOBS) --target exactgeo_tests
 	$(TSAN_BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Threads.*:WindowLists.*:WorkerPool.*:MeshBuild.*:IoChunks.*:-Threads.EveryVariantGivesTheSequentialDistancesOnEveryThreadCount'
 
-# Longer fuzzing than `make test`: the geometric fuzz test (tests/test_fuzz.cpp) with 100 times its default
-# cases in the Release build, then the mesh readers under libFuzzer for FUZZ_SECONDS from the seed corpus.
+# Longer fuzzing than `make test`: the geometric fuzz tests (tests/test_fuzz.cpp) with FUZZ_CASES cases each
+# (100 and 200 times their defaults) in the Release build, then the mesh readers under libFuzzer for
+# FUZZ_SECONDS from the seed corpus.
 # A failing geometric case prints its seed; a crashing reader input is written to $(ASAN_BUILD_DIR)/tests/fuzz.
 # Both run even when the first fails, and either failing fails the target.
 FUZZ_CASES ?= 20000

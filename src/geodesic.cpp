@@ -49,6 +49,16 @@ std::vector<detail::LocatedPoint> locate_all(const detail::SurfaceMesh& surface,
   return located;
 }
 
+// Source `label` at an input vertex: a source at each of its surface copies.
+void add_vertex_sources(std::vector<detail::SourceSite>& sites, std::span<const std::uint32_t> copies,
+                        std::uint32_t label) {
+  for (std::uint32_t s : copies) {
+    detail::LocatedPoint point;
+    point.vertex = s;
+    sites.push_back({point, label});
+  }
+}
+
 }  // namespace
 
 std::string_view algorithm_name(Algorithm algorithm) {
@@ -77,9 +87,16 @@ GeodesicSolver& GeodesicSolver::operator=(GeodesicSolver&&) noexcept = default;
 const GeodesicResult& GeodesicSolver::solve(std::span<const SurfacePoint> sources,
                                             std::span<const SurfacePoint> targets, const GeodesicOptions& options) {
   if (sources.empty()) throw Error(ErrorCode::invalid_argument, "no source given");
-  const std::vector<detail::LocatedPoint> located = locate_all(mesh_->surface(), sources, "source");
+  const detail::SurfaceMesh& surface = mesh_->surface();
+  const std::vector<detail::LocatedPoint> located = locate_all(surface, sources, "source");
   std::vector<detail::SourceSite> sites;
-  for (std::uint32_t i = 0; i < located.size(); ++i) sites.push_back({located[i], i});
+  for (std::uint32_t i = 0; i < located.size(); ++i) {
+    // A point at a corner is that input vertex: a source at each of its copies, as a vertex source is.
+    if (located[i].vertex != detail::kNone)
+      add_vertex_sources(sites, surface.copies_with(located[i].vertex), i);
+    else
+      sites.push_back({located[i], i});
+  }
   return run(sites, targets, options);
 }
 
@@ -88,13 +105,8 @@ const GeodesicResult& GeodesicSolver::solve(std::span<const std::uint32_t> sourc
   if (source_vertices.empty()) throw Error(ErrorCode::invalid_argument, "no source vertex given");
   const detail::SurfaceMesh& surface = mesh_->surface();
   std::vector<detail::SourceSite> sites;
-  for (std::uint32_t i = 0; i < source_vertices.size(); ++i) {
-    for (std::uint32_t s : detail::source_vertex_copies(surface, source_vertices[i])) {
-      detail::LocatedPoint point;
-      point.vertex = s;
-      sites.push_back({point, i});
-    }
-  }
+  for (std::uint32_t i = 0; i < source_vertices.size(); ++i)
+    add_vertex_sources(sites, detail::source_vertex_copies(surface, source_vertices[i]), i);
   return run(sites, targets, options);
 }
 
@@ -121,27 +133,25 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
   result.distances.assign(mesh_->vertex_count(), HUGE_VAL);
   result.nearest_source.assign(mesh_->vertex_count(), kNoSource);
   for (std::uint32_t v = 0; v < mesh_->vertex_count(); ++v) {
-    for (std::uint32_t s : surface.copies_of(v)) {
-      if (!(d[s] <= cutoff)) continue;
-      const double distance = surface.to_input_length(d[s]);
-      if (distance < result.distances[v]) {
-        result.distances[v] = distance;
-        result.nearest_source[v] = label_of_vertex(s);
-      }
-    }
+    const std::uint32_t s = surface.nearest_copy(v, d);  // the smallest over the vertex's copies
+    if (s == detail::kNone || std::isinf(d[s]) || !(d[s] <= cutoff)) continue;  // used by no face, unreached
+    result.distances[v] = surface.to_input_length(d[s]);
+    result.nearest_source[v] = label_of_vertex(s);
   }
   result.target_distances.assign(targets.size(), HUGE_VAL);
   result.target_nearest_source.assign(targets.size(), kNoSource);
   for (std::size_t t = 0; t < targets.size(); ++t) {
-    const std::uint32_t vertex = located_targets[t].vertex;
-    const double distance = vertex != detail::kNone ? d[vertex] : engine.target_distances()[t];
+    if (const std::uint32_t vertex = located_targets[t].vertex; vertex != detail::kNone) {
+      // A point at a vertex (or at a corner of a face) is that input vertex: the per-vertex answer.
+      const std::uint32_t v = surface.surface_to_input[vertex];
+      result.target_distances[t] = result.distances[v];
+      result.target_nearest_source[t] = result.nearest_source[v];
+      continue;
+    }
+    const double distance = engine.target_distances()[t];
     if (!(distance <= cutoff)) continue;
     result.target_distances[t] = surface.to_input_length(distance);
-    if (vertex != detail::kNone)
-      result.target_nearest_source[t] = label_of_vertex(vertex);
-    else
-      result.target_nearest_source[t] =
-          labels.empty() ? 0u : engine.label_of(engine.target_arrivals()[t].from, labels);
+    result.target_nearest_source[t] = labels.empty() ? 0u : engine.label_of(engine.target_arrivals()[t].from, labels);
   }
   result.stats.propagation_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,7 +3,10 @@
 // source.
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
@@ -57,34 +60,17 @@ class PathBuilder {
         eps_(kPathSnapTolerance * surface_.length_scale) {}
 
   // From the point at `start` (described by `location`) back to a source, as the arrival says.
-  GeodesicPath trace(std::array<double, 3> start, const PathPointLocation& location, Arrival arrival) {
+  GeodesicPath trace(std::array<double, 3> start, const PathPointLocation& location, const Arrival& arrival) {
     add(start, location);
-    const std::uint32_t n = surface_.vertex_count;
-    for (std::uint32_t pieces = 0; arrival.halfedge != kNone; ++pieces) {
-      if (pieces > n) fail("the chain of pseudo-sources does not end at a source");
-      const std::uint32_t reached = trace_piece(arrival);
-      if (reached == kNone) break;  // a source point: the piece ended on it
-      add_vertex(reached);
-      arrival = engine_.arrivals()[reached];  // kNone at a source vertex
-    }
-    std::reverse(path_.points.begin(), path_.points.end());
-    std::reverse(path_.locations.begin(), path_.locations.end());
-    // Measured in the engine's frame, where squared lengths neither underflow nor overflow.
-    double length = 0;
-    for (std::size_t i = 1; i < path_.points.size(); ++i) {
-      double squared = 0;
-      for (int k = 0; k < 3; ++k)
-        squared += std::pow(surface_.to_engine_length(path_.points[i][k]) -
-                                surface_.to_engine_length(path_.points[i - 1][k]),
-                            2);
-      length += std::sqrt(squared);
-    }
-    path_.length = surface_.to_input_length(length);
-    return std::move(path_);
+    if (arrival.halfedge == kNone) return finish();
+    return finish_from(trace_piece(arrival));
   }
 
   // From surface vertex v back to a source.
-  GeodesicPath trace_vertex(std::uint32_t v) { return trace(vertex_position(v), vertex_location(v), engine_.arrivals()[v]); }
+  GeodesicPath trace_vertex(std::uint32_t v) {
+    add(vertex_position(v), vertex_location(v));
+    return finish_from(leave(v));
+  }
 
   std::array<double, 3> vertex_position(std::uint32_t surface_vertex) const {
     const std::uint32_t v = surface_.surface_to_input[surface_vertex];
@@ -98,6 +84,111 @@ class PathBuilder {
   }
 
  private:
+  // Goes on from vertex `reached` (kNone: the path is at a source), vertex by vertex, to a source.
+  GeodesicPath finish_from(std::uint32_t reached) {
+    for (std::uint32_t pieces = 0; reached != kNone; ++pieces) {
+      if (pieces > surface_.vertex_count) fail("the chain of pseudo-sources does not end at a source");
+      add_vertex(reached);
+      reached = leave(reached);
+    }
+    return finish();
+  }
+
+  // The path, traced from its end back to a source, turned around and measured.
+  GeodesicPath finish() {
+    std::reverse(path_.points.begin(), path_.points.end());
+    std::reverse(path_.locations.begin(), path_.locations.end());
+    path_.length = surface_.to_input_length(engine_length(0));
+    return std::move(path_);
+  }
+
+  // The length of the path from its point `first` on, and on to the position `end` if given. Measured in the
+  // engine's frame, where squared lengths neither underflow nor overflow.
+  double engine_length(std::size_t first, const std::array<double, 3>* end = nullptr) const {
+    const auto step = [&](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+      double squared = 0;
+      for (int k = 0; k < 3; ++k)
+        squared += std::pow(surface_.to_engine_length(b[k]) - surface_.to_engine_length(a[k]), 2);
+      return std::sqrt(squared);
+    };
+    double length = 0;
+    for (std::size_t i = first + 1; i < path_.points.size(); ++i) length += step(path_.points[i - 1], path_.points[i]);
+    if (end) length += step(path_.points.back(), *end);
+    return length;
+  }
+
+  // From vertex v, where the path is, the next piece, as v's arrival says; returns the vertex it ends at, or
+  // kNone at a source.
+  std::uint32_t leave(std::uint32_t v) {
+    if (has_coincident_neighbour(v)) return leave_coincident(v);
+    const Arrival& arrival = engine_.arrivals()[v];
+    return arrival.halfedge == kNone ? kNone : trace_piece(arrival);
+  }
+
+  // Whether an edge at v is shorter than the snapping distance: a neighbour at v's place.
+  bool has_coincident_neighbour(std::uint32_t v) const {
+    for (std::uint32_t i = surface_.vertex_corner_offsets[v]; i < surface_.vertex_corner_offsets[v + 1]; ++i) {
+      const std::uint32_t c = surface_.vertex_corners[i];  // leaves v; prev(c) comes back to it
+      if (surface_.halfedges[c].length <= eps_ || surface_.halfedges[prev_halfedge(c)].length <= eps_) return true;
+    }
+    return false;
+  }
+
+  // v and the vertices joined to it by edges shorter than the snapping distance, and to those in turn: one
+  // point of the surface. Ordered by distance, then number.
+  std::vector<std::uint32_t> coincident_with(std::uint32_t v) const {
+    std::vector<std::uint32_t> together = {v};
+    for (std::size_t next = 0; next < together.size(); ++next) {
+      const std::uint32_t u = together[next];
+      for (std::uint32_t i = surface_.vertex_corner_offsets[u]; i < surface_.vertex_corner_offsets[u + 1]; ++i) {
+        const std::uint32_t c = surface_.vertex_corners[i];
+        for (const auto& [edge, other] :
+             {std::pair{c, surface_.head(c)}, std::pair{prev_halfedge(c), surface_.apex(c)}})
+          if (surface_.halfedges[edge].length <= eps_ &&
+              std::find(together.begin(), together.end(), other) == together.end())
+            together.push_back(other);
+      }
+    }
+    const std::vector<double>& d = engine_.distances();
+    std::sort(together.begin(), together.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
+    return together;
+  }
+
+  // Issue 34: vertices at one place (a zero-length edge) have equal distances up to rounding, and the engine
+  // may have reached each of them from another: a ray through one reaches the other, and rounding a unit in the
+  // last place lower then lowers the first from the second across the zero-length edge. Their arrivals then
+  // lead from one to the other and back. The path leaves the place by the first of them, in order of distance,
+  // that is a source or whose own piece leads away (through the others where its ray runs through them, and
+  // around them into the face it goes on in) and is as long as the distances at its ends say; it reaches that
+  // one along the zero-length edges. A piece that cannot be traced, or that comes back, is no way out.
+  std::uint32_t leave_coincident(std::uint32_t v) {
+    const std::vector<std::uint32_t> together = coincident_with(v);
+    const std::vector<double>& d = engine_.distances();
+    const std::size_t before = path_.points.size();
+    for (const std::uint32_t w : together) {
+      if (!(d[w] < HUGE_VAL)) break;  // not reached (beyond a cut-off), nor are those after it
+      add_vertex(w);
+      const Arrival& arrival = engine_.arrivals()[w];
+      if (arrival.halfedge == kNone) return kNone;  // reached, without a piece: a source vertex
+      const std::size_t start = path_.points.size() - 1;  // w's place
+      try {
+        const std::uint32_t end = trace_piece(arrival, together);
+        const std::array<double, 3> end_position = end != kNone ? vertex_position(end) : path_.points.back();
+        const double through_end = (end != kNone ? d[end] : 0) + engine_length(start, &end_position);
+        if (std::find(together.begin(), together.end(), end) == together.end() &&
+            through_end <= d[w] + kPathPieceTolerance * surface_.length_scale)
+          return end;
+      } catch (const Error&) {
+        // A piece that cannot be traced: no way out, try the next.
+      }
+      path_.points.resize(before);
+      path_.locations.resize(before);
+    }
+    fail("no piece leads away from the " + std::to_string(together.size()) + " vertices at the place of vertex " +
+         std::to_string(surface_.surface_to_input[v]));
+  }
+
   [[noreturn]] void fail(const std::string& why) const {
     throw Error(ErrorCode::internal, "path tracing failed: " + why);
   }
@@ -171,16 +262,23 @@ class PathBuilder {
   // of the vertex, so the straight line beyond it, and the face sequence the window took, are not known here.
   // The vertex's own path is no longer than the rest of the ray (it was reached through that window too, and
   // its distance is the smallest), so the path continues with it, and stays as short as the distance.
-  std::uint32_t trace_piece(const Arrival& arrival) {
+  // Vertices in `pass` (those at the place the piece starts from, see leave_coincident) are no such end: the
+  // piece goes on through them, and around them where it grazes one, into the face where the ray goes on.
+  std::uint32_t trace_piece(const Arrival& arrival, std::span<const std::uint32_t> pass = {}) {
     const std::uint32_t pseudo_source = arrival.from < surface_.vertex_count ? arrival.from : kNone;
+    const auto ends_at = [&](std::uint32_t v) {
+      return v != kNone && std::find(pass.begin(), pass.end(), v) == pass.end();
+    };
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
     if (std::isnan(arrival.crossing)) {  // straight to a corner or a source inside the face
       if (corner_at(h, source) == kNone) add_face_point(h, source);
       return pseudo_source;
     }
-    if (const std::uint32_t v = vertex_at(h, arrival.crossing); v != kNone) return v;
-    add_edge_point(h, arrival.crossing);
+    if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))
+      return v;
+    else if (v == kNone)
+      add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
     if (norm(source - entry) <= eps_) return pseudo_source;  // the pseudo-source is where the piece crosses
     // Walk face by face: enter the face across h at `entry`, heading for `source` beyond it.
@@ -203,7 +301,10 @@ class PathBuilder {
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through
       // the side from the head to the apex.
       const bool via_tail_side = cross(c[2] - entry, source - entry) > 0;
-      const std::uint32_t side = via_tail_side ? prev_halfedge(h) : next_halfedge(h);  // apex->tail or head->apex
+      std::uint32_t side = via_tail_side ? prev_halfedge(h) : next_halfedge(h);  // apex->tail or head->apex
+      // A side of zero length is a point, whose frame says nothing of directions: the ray leaves a face with one
+      // (a face with no area, whose other sides coincide) by its other side, at the same place.
+      if (!(surface_.halfedges[side].length > 0)) side = via_tail_side ? next_halfedge(h) : prev_halfedge(h);
       const Vec2 s = to_sibling_frame(surface_, h, side, source);
       const Vec2 e = to_sibling_frame(surface_, h, side, entry);
       // A shortest path cannot leave the surface: a piece that seems to cross a boundary side runs along it
@@ -213,8 +314,11 @@ class PathBuilder {
       // Where the segment e -> s meets the side's line (y = 0).
       const double along = s.y != e.y ? e.x + (s.x - e.x) * (e.y / (e.y - s.y)) : e.x;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);
-      if (const std::uint32_t v = vertex_at(side, x); v != kNone) return v;
-      add_edge_point(side, x);
+      // At a vertex to pass (which a ray grazing it leaves this face at), on across the side, around the vertex.
+      if (const std::uint32_t v = vertex_at(side, x); ends_at(v))
+        return v;
+      else if (v == kNone)
+        add_edge_point(side, x);
       entry = {x, 0};
       source = s;
       h = side;
@@ -238,10 +342,7 @@ GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
                                                  std::to_string(mesh_->vertex_count()) + " vertices)");
   if (result_.distances.empty()) throw Error(ErrorCode::invalid_argument, "no run to trace a path in: solve first");
   if (std::isinf(result_.distances[vertex])) return {};
-  // The surface copy of the vertex that carries its distance: the nearest.
-  std::uint32_t copy = detail::kNone;
-  for (std::uint32_t s : mesh_->surface().copies_of(vertex))
-    if (copy == detail::kNone || engine_->distances()[s] < engine_->distances()[copy]) copy = s;
+  const std::uint32_t copy = mesh_->surface().nearest_copy(vertex, engine_->distances());  // carries its distance
   EXACTGEO_ASSERT(copy != detail::kNone);
   GeodesicPath path = detail::PathBuilder(*mesh_, *engine_).trace_vertex(copy);
   path.source = result_.nearest_source[vertex];
@@ -252,18 +353,17 @@ GeodesicPath GeodesicSolver::path_to_target(std::size_t target) const {
   if (target >= result_.target_distances.size())
     throw Error(ErrorCode::invalid_argument, "target " + std::to_string(target) + " is out of range (the last run had " +
                                                  std::to_string(result_.target_distances.size()) + " targets)");
-  if (std::isinf(result_.target_distances[target])) return {};
   const detail::LocatedPoint& point = engine_->targets()[target];
-  detail::PathBuilder builder(*mesh_, *engine_);
-  GeodesicPath path;
-  if (point.vertex != detail::kNone) {
-    path = builder.trace_vertex(point.vertex);
-  } else {
-    PathPointLocation location;
-    location.kind = PathPointLocation::Kind::face;
-    location.face_point = {mesh_->surface().surface_face_to_input[point.face], point.barycentric};
-    path = builder.trace(point_position(*mesh_, location.face_point), location, engine_->target_arrivals()[target]);
-  }
+  // A point at a vertex (or at a corner of a face) is that input vertex: its path goes to the copy that has
+  // its distance.
+  if (point.vertex != detail::kNone) return path_to_vertex(mesh_->surface().surface_to_input[point.vertex]);
+  if (std::isinf(result_.target_distances[target])) return {};
+  PathPointLocation location;
+  location.kind = PathPointLocation::Kind::face;
+  location.face_point = {mesh_->surface().surface_face_to_input[point.face], point.barycentric};
+  GeodesicPath path = detail::PathBuilder(*mesh_, *engine_)
+                          .trace(point_position(*mesh_, location.face_point), location,
+                                 engine_->target_arrivals()[target]);
   path.source = result_.target_nearest_source[target];
   return path;
 }

@@ -126,6 +126,19 @@ struct SurfaceMesh {
     const std::uint32_t c = canonical(input_vertex);
     return {input_copies.data() + input_copies_offsets[c], input_copies.data() + input_copies_offsets[c + 1]};
   }
+  // The copies of the input vertex that surface vertex s belongs to, s among them. A point at s (a source or
+  // target at a vertex, or at a corner of a face) is that input vertex, so it stands for all of them.
+  std::span<const std::uint32_t> copies_with(std::uint32_t surface_vertex) const {
+    return copies_of(surface_to_input[surface_vertex]);
+  }
+  // Of input vertex v's copies, the one with the smallest of `distances` (per surface vertex; the first in
+  // copies_of order on a tie), kNone if v is used by no face: the copy that carries v's distance and its path.
+  std::uint32_t nearest_copy(std::uint32_t input_vertex, std::span<const double> distances) const {
+    std::uint32_t nearest = kNone;
+    for (std::uint32_t s : copies_of(input_vertex))
+      if (nearest == kNone || distances[s] < distances[nearest]) nearest = s;
+    return nearest;
+  }
   std::uint32_t face_count() const { return static_cast<std::uint32_t>(corner_vertex.size() / 3); }
   std::uint32_t tail(std::uint32_t h) const { return corner_vertex[h]; }
   std::uint32_t head(std::uint32_t h) const { return corner_vertex[next_halfedge(h)]; }

@@ -29,6 +29,9 @@ inline constexpr double kReemitTolerance = 1e-12;
 
 // Path tracing snaps a point to a vertex, or ends a piece at its pseudo-source, within this distance.
 inline constexpr double kPathSnapTolerance = 1e-10;
+// A piece that leads a path away from vertices at one place (path.cpp, leave_coincident) must be as long as
+// the distances at its ends say, to within this: a few snapping distances, as both its ends may be snapped.
+inline constexpr double kPathPieceTolerance = 4 * kPathSnapTolerance;
 
 // A face whose doubled area is below this times its longest edge squared counts as degenerate.
 inline constexpr double kDegenerateAreaRatio = 1e-12;

@@ -655,10 +655,13 @@ void VtpEngine::register_targets(std::span<const LocatedPoint> targets) {
   is_target_vertex_.assign(mesh_.vertex_count, 0);
   face_target_offsets_.assign(mesh_.face_count() + 1, 0);
   for (const LocatedPoint& t : targets_) {
-    if (t.vertex != kNone)
-      is_target_vertex_[t.vertex] = 1;
-    else
+    if (t.vertex != kNone) {
+      // A target at a vertex is that input vertex, carried by whichever of its copies is nearest: lowering any
+      // copy may lower it.
+      for (std::uint32_t copy : mesh_.copies_with(t.vertex)) is_target_vertex_[copy] = 1;
+    } else {
       ++face_target_offsets_[t.face + 1];
+    }
   }
   for (std::uint32_t f = 0; f < mesh_.face_count(); ++f) face_target_offsets_[f + 1] += face_target_offsets_[f];
   face_targets_.resize(face_target_offsets_.back());
@@ -713,13 +716,19 @@ void VtpEngine::evaluate_targets_from_corners(std::uint32_t f) {
 }
 
 // The cut-off: max_distance, lowered to the farthest target's distance once every target has one. A window
-// that cannot come closer than that can improve no target.
+// that cannot come closer than that can improve no target. A target at a vertex has the smallest distance
+// over the vertex's copies: at most each copy's, and final once the wavefront has passed it, whatever the
+// copies beyond.
 void VtpEngine::update_cutoff() {
   if (!targets_changed_) return;
   targets_changed_ = false;
   double farthest = 0;
-  for (std::uint32_t t = 0; t < targets_.size(); ++t)
-    farthest = std::max(farthest, targets_[t].vertex != kNone ? distance_[targets_[t].vertex] : target_distance_[t]);
+  for (std::uint32_t t = 0; t < targets_.size(); ++t) {
+    const std::uint32_t vertex = targets_[t].vertex;
+    const double distance =
+        vertex != kNone ? distance_[mesh_.nearest_copy(mesh_.surface_to_input[vertex], distance_)] : target_distance_[t];
+    farthest = std::max(farthest, distance);
+  }
   cutoff_ = std::min(options_.max_distance, targets_.empty() ? HUGE_VAL : farthest);
 }
 

@@ -9,8 +9,11 @@
 // - 1-to-4 midpoint subdivision leaves the distances at the old vertices unchanged;
 // - the mesh scaled by a power of ten from 1e-200 to 1e200 and translated gives the unit answers times
 //   the factor (1e-12 relative).
-// The default run takes a few seconds. EXACTGEO_FUZZ_CASES sets the number of cases (`make fuzz` runs 100
-// times as many) and EXACTGEO_FUZZ_SEED the first seed: a failure names its seed, and
+// A second test (Fuzz.CoincidentVerticesAndNonManifoldJunctions, below) builds what those families never
+// contain: vertices doubled in place (zero-length edges), bowties, books of pages and fins, where vertex targets
+// and paths must agree with the per-vertex output, on one thread and on several.
+// The default run takes a few seconds. EXACTGEO_FUZZ_CASES sets the number of cases of each test (`make fuzz`
+// runs 20000) and EXACTGEO_FUZZ_SEED the first seed: a failure names its seed, and
 // EXACTGEO_FUZZ_SEED=S EXACTGEO_FUZZ_CASES=1 runs that case alone.
 #include <gtest/gtest.h>
 
@@ -19,6 +22,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <numeric>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,6 +31,7 @@
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/shapes.hpp"
+#include "exactgeo/surface_point.hpp"
 #include "test_meshes.hpp"
 
 namespace {
@@ -37,6 +42,10 @@ using exactgeo::MeshSoup;
 using exactgeo_test::Random;
 
 constexpr std::uint64_t kDefaultCases = 200;
+constexpr std::uint64_t kDefaultJunctionCases = 100;
+// Path length against distance on the junction cases, relative: what the README promises (their short paths
+// reach 1e-14; the random meshes' longer ones are held to kPathLength).
+constexpr double kJunctionPathLength = 1e-12;
 constexpr double kPathLength = 1e-9;   // path length against distance, relative
 constexpr double kExact = 1e-10;       // exact answers compared, relative to the largest distance
 constexpr double kRounding = 1e-12;    // bounds that hold exactly, slack relative to the largest distance
@@ -226,6 +235,230 @@ TEST(Fuzz, RandomMeshesKeepEveryProperty) {
   std::size_t failing = 0;
   for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) failing += check_seed(seed) ? 0 : 1;
   std::printf("%llu random cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
+              static_cast<unsigned long long>(first_seed), failing);
+}
+
+// ---- Coincident vertices and non-manifold junctions -------------------------------------------------------
+
+// Issue 34 found two classes of silent failures that the families above never produce: paths failing where
+// two vertices coincide (a zero-length edge), and a vertex named as a target at a non-manifold vertex getting
+// another answer than the same vertex in the per-vertex output. These cases build such meshes: vertices
+// doubled in place and stitched back by zero-area faces, bowties (patches sharing one vertex), books of 3 to 6
+// pages sharing a spine, and sheets with a fin standing on inner edges; each mesh checked on one thread (any
+// variant) and on 2, 3 and 8 threads.
+struct JunctionCase {
+  std::string family;
+  MeshSoup soup;
+  // The surface is its pieces apart, some vertices doubled in place: the pieces' own distances, a doubled
+  // vertex's being its original's, are every distance. Empty for a fin, which slits its sheet.
+  exactgeo_test::GluedPieces glued;
+  std::vector<std::uint32_t> stands_for;
+};
+
+JunctionCase random_junction_case(Random& random) {
+  const auto size = [&](int lo, int hi) {
+    return lo + static_cast<int>(random.below(static_cast<std::size_t>(hi - lo + 1)));
+  };
+  JunctionCase c;
+  int doubled = size(0, 3);
+  switch (random.below(4)) {
+    case 0: {
+      const int nx = size(1, 8), ny = size(1, 8);
+      c.family = "height field " + std::to_string(nx) + "x" + std::to_string(ny);
+      MeshSoup field = exactgeo_test::random_height_field(random, nx, ny, std::pow(10.0, random.uniform(-3, 0)),
+                                                          random.below(2) == 0);
+      c.glued.vertex_of.emplace_back(exactgeo_test::vertex_count(field));
+      std::iota(c.glued.vertex_of[0].begin(), c.glued.vertex_of[0].end(), 0u);
+      c.glued.soup = field;
+      c.glued.pieces.push_back(std::move(field));
+      doubled = size(1, 6);
+      break;
+    }
+    case 1: {
+      const int wings = size(2, 4);
+      c.family = "bowtie of " + std::to_string(wings) + " wings";
+      c.glued = exactgeo_test::random_bowtie(random, wings);
+      break;
+    }
+    case 2: {
+      const int pages = size(3, 6);
+      c.family = "book of " + std::to_string(pages) + " pages";
+      c.glued = exactgeo_test::random_book(random, pages);
+      break;
+    }
+    default:
+      c.family = "sheet with a fin";
+      c.glued.soup = exactgeo_test::random_sheet_with_fin(random);
+      break;
+  }
+  c.family += ", " + std::to_string(doubled) + " vertices doubled";
+  c.soup = exactgeo_test::with_coincident_vertices(c.glued.soup, random, doubled, c.stands_for);
+  return c;
+}
+
+// The distances from `source` that the case's pieces give, or nothing where the pieces do not say (a fin).
+std::vector<double> pieces_distances(const JunctionCase& c, std::uint32_t source, const GeodesicOptions& options) {
+  if (c.glued.pieces.empty()) return {};
+  std::vector<double> expected(exactgeo_test::vertex_count(c.soup), HUGE_VAL);
+  for (std::size_t i = 0; i < c.glued.pieces.size(); ++i) {
+    const std::vector<std::uint32_t>& vertex_of = c.glued.vertex_of[i];
+    const auto at = std::find(vertex_of.begin(), vertex_of.end(), c.stands_for[source]);
+    if (at == vertex_of.end()) continue;
+    const std::vector<double> d =
+        exactgeo::geodesic_distance(Mesh(c.glued.pieces[i]), static_cast<std::uint32_t>(at - vertex_of.begin()),
+                                    options)
+            .distances;
+    for (std::size_t k = 0; k < d.size(); ++k) expected[vertex_of[k]] = std::min(expected[vertex_of[k]], d[k]);
+  }
+  for (std::size_t v = 0; v < expected.size(); ++v) expected[v] = expected[c.stands_for[v]];
+  return expected;
+}
+
+// Both +inf, or within kExact of each other.
+bool same_distance(double a, double b, double largest) {
+  return (std::isinf(a) && std::isinf(b)) || std::abs(a - b) <= kExact * largest;
+}
+
+// A path that must have length `distance` and end at input vertex `vertex`; "" if it does.
+std::string path_fault(const exactgeo::GeodesicPath& path, double distance, std::uint32_t vertex) {
+  if (std::isinf(distance)) return path.points.empty() ? "" : "a path to an unreachable point";
+  if (!(std::abs(path.length - distance) <= kJunctionPathLength * distance))
+    return "path length " + number(path.length) + ", distance " + number(distance);
+  if (path.locations.empty() || path.locations.back().kind != exactgeo::PathPointLocation::Kind::vertex ||
+      path.locations.back().vertex != vertex)
+    return "the path does not end at the vertex";
+  return "";
+}
+
+void check_junction_case(const JunctionCase& c, const GeodesicOptions& options, Random& random, Failures& failures) {
+  const MeshSoup& soup = c.soup;
+  const Mesh mesh(soup);
+  const std::size_t n = mesh.vertex_count();
+  const std::vector<std::uint8_t> split = exactgeo_test::non_manifold_vertices(soup);
+  // Vertices where the classes live: the split ones, the doubled ones and their originals; and a few others.
+  std::vector<std::uint32_t> special;
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (split[v] || c.stands_for[v] != v) special.push_back(v);
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (c.stands_for[v] != v) special.push_back(c.stands_for[v]);
+  for (int i = 0; i < 3; ++i) special.push_back(random.below(n));
+  std::sort(special.begin(), special.end());
+  special.erase(std::unique(special.begin(), special.end()), special.end());
+  // The source: often one of those, else a corner of the largest piece.
+  const std::uint32_t source = random.below(2) == 0 ? special[random.below(special.size())]
+                                                    : exactgeo_test::random_source_vertex(soup, random.below(1u << 30));
+  const std::string variant = exactgeo_test::variant_label(options) + ", source " + std::to_string(source) + ": ";
+
+  // The per-vertex output: bounded, as the pieces say, and each path as long as its distance.
+  exactgeo::GeodesicSolver solver(mesh);
+  const std::uint32_t sources[] = {source};
+  const std::vector<double> d = solver.solve(sources, {}, options).distances;
+  const double largest = exactgeo_test::max_finite(d);
+  const std::vector<double> graph = exactgeo_test::edge_graph_dijkstra(soup, source, split);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    const std::string at = variant + "vertex " + std::to_string(v) + ": ";
+    if (std::isnan(d[v]) || (std::isfinite(graph[v]) && !std::isfinite(d[v]))) {
+      failures.add(at + "distance " + number(d[v]) + ", edge path " + number(graph[v]));
+      continue;
+    }
+    if (!std::isfinite(d[v])) continue;
+    if (!(exactgeo_test::distance_between(soup, source, v) <= d[v] + kRounding * largest))
+      failures.add(at + "geodesic " + number(d[v]) + " shorter than the straight segment");
+    if (!(d[v] <= graph[v] + kRounding * largest))
+      failures.add(at + "geodesic " + number(d[v]) + " longer than an edge path " + number(graph[v]));
+    try {
+      if (const std::string fault = path_fault(solver.path_to_vertex(v), d[v], v); !fault.empty())
+        failures.add(at + fault);
+    } catch (const exactgeo::Error& error) {
+      failures.add(at + "path: " + error.what());
+    }
+  }
+  if (const std::vector<double> expected = pieces_distances(c, source, options); !expected.empty())
+    if (const auto match = exactgeo_test::distances_match(d, expected, kExact); !match)
+      failures.add(variant + "against the pieces apart: " + match.message());
+
+  // The special vertices as targets, named by index and as the corner of each face at them: each is the input
+  // vertex, with its per-vertex distance and a path to it as long.
+  std::vector<exactgeo::SurfacePoint> targets;
+  std::vector<std::uint32_t> target_vertex;
+  for (const std::uint32_t v : special) {
+    targets.push_back(exactgeo::vertex_point(mesh, v));
+    target_vertex.push_back(v);
+    for (std::uint32_t f = 0; f < exactgeo_test::face_count(soup); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (soup.triangles[3 * f + k] == v) {
+          exactgeo::SurfacePoint corner{f, {0, 0, 0}};
+          corner.barycentric[k] = 1;
+          targets.push_back(corner);
+          target_vertex.push_back(v);
+        }
+  }
+  exactgeo::GeodesicSolver target_solver(mesh);
+  const exactgeo::GeodesicResult& result = target_solver.solve(sources, targets, options);
+  for (std::size_t t = 0; t < targets.size(); ++t) {
+    const std::uint32_t v = target_vertex[t];
+    const std::string at = variant + "target " + std::to_string(t) + " (vertex " + std::to_string(v) + ", face " +
+                           std::to_string(targets[t].face) + "): ";
+    if (!same_distance(result.target_distances[t], d[v], largest)) {
+      failures.add(at + "distance " + number(result.target_distances[t]) + ", per vertex " + number(d[v]));
+      continue;
+    }
+    try {
+      if (const std::string fault = path_fault(target_solver.path_to_target(t), result.target_distances[t], v);
+          !fault.empty())
+        failures.add(at + fault);
+    } catch (const exactgeo::Error& error) {
+      failures.add(at + "path: " + error.what());
+    }
+  }
+
+  // A source point at a corner of a face at the source is the source vertex, every copy of it.
+  for (std::uint32_t f = 0; f < exactgeo_test::face_count(soup); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (soup.triangles[3 * f + k] == source && random.below(3) == 0) {
+        exactgeo::SurfacePoint corner{f, {0, 0, 0}};
+        corner.barycentric[k] = 1;
+        const std::vector<double> from_corner =
+            exactgeo::geodesic_distance(mesh, std::span(&corner, 1), options).distances;
+        if (const auto match = exactgeo_test::distances_match(from_corner, d, kExact); !match)
+          failures.add(variant + "from the corner of face " + std::to_string(f) + ": " + match.message());
+      }
+}
+
+// Runs the junction case of one seed on one thread (a random variant) and on 2, 3 and 8 threads; reports like
+// check_seed.
+bool check_junction_seed(std::uint64_t seed) {
+  Random random(seed);
+  const JunctionCase c = random_junction_case(random);
+  Failures failures;
+  const auto& [one_thread, name] = exactgeo::kAlgorithmNames[random.below(exactgeo::kAlgorithmNames.size())];
+  std::vector<GeodesicOptions> variants = {{.algorithm = one_thread}};
+  for (const unsigned threads : {2u, 3u, 8u})
+    variants.push_back({.algorithm = random.below(2) ? exactgeo::Algorithm::vtp : exactgeo::Algorithm::opvtp,
+                        .threads = threads});
+  for (GeodesicOptions& options : variants) {
+    options.rule1 = random.below(4) != 0;
+    options.rule23 = random.below(4) != 0;
+    try {
+      check_junction_case(c, options, random, failures);
+    } catch (const exactgeo::Error& error) {
+      failures.add(exactgeo_test::variant_label(options) + ": exactgeo::Error " + error.what());
+    }
+  }
+  if (failures.count() == 0) return true;
+  ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
+                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
+                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz.CoincidentVerticesAndNonManifoldJunctions";
+  return false;
+}
+
+TEST(Fuzz, CoincidentVerticesAndNonManifoldJunctions) {
+  const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
+  const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", kDefaultJunctionCases);
+  std::size_t failing = 0;
+  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed)
+    failing += check_junction_seed(seed) ? 0 : 1;
+  std::printf("%llu junction cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
               static_cast<unsigned long long>(first_seed), failing);
 }
 

@@ -518,6 +518,41 @@ TEST_P(MeshPolicy, NonManifoldVertexTwoPyramidsTouchingAtTheTip) {
   }
 }
 
+// Issue 34, finding 2: a bowtie, two triangles meeting at vertex 0 only, which the policy splits into one copy
+// per wing. A target at vertex 0, named by index or as a corner of either face, is the input vertex: its
+// distance is the smallest over the copies, as in the per-vertex distances, and its path goes to that copy;
+// a source at either corner is vertex 0, in both wings. Before, each such point stood on one face only: from
+// the other wing, inf.
+TEST_P(MeshPolicy, NonManifoldVertexBowtieAsTargetAndSourceIsOneVertex) {
+  // Wing A: vertices 0, 1, 2 in the plane z = 0; wing B: 0, 3, 4 in the plane y = 0.
+  const MeshSoup soup{{0, 0, 0, 3, 0, 0, 0, 4, 0, -2, 0, 0, 0, 0, -1}, {0, 1, 2, 0, 3, 4}};
+  const exactgeo::Mesh mesh(soup);
+  ASSERT_EQ(mesh.report().non_manifold_vertices, 1u);
+  const std::vector<exactgeo::SurfacePoint> at_zero = {exactgeo::vertex_point(mesh, 0), {0, {1, 0, 0}}, {1, {1, 0, 0}}};
+  for (std::uint32_t source = 1; source < 5; ++source) {
+    SCOPED_TRACE(testing::Message() << "source " << source);
+    const double along_edge = exactgeo_test::distance_between(soup, source, 0);
+    exactgeo::GeodesicSolver solver(mesh);
+    const std::uint32_t sources[] = {source};
+    const exactgeo::GeodesicResult& result = solver.solve(sources, at_zero, GetParam());
+    EXPECT_NEAR(result.distances[0], along_edge, kExact * 4);
+    for (std::size_t t = 0; t < at_zero.size(); ++t) {
+      EXPECT_EQ(result.target_distances[t], result.distances[0]) << "target " << t;
+      EXPECT_EQ(result.target_nearest_source[t], 0u) << "target " << t;
+      const exactgeo::GeodesicPath path = solver.path_to_target(t);
+      EXPECT_NEAR(path.length, along_edge, kExact * 4) << "target " << t;
+      ASSERT_FALSE(path.locations.empty()) << "target " << t;
+      EXPECT_EQ(path.locations.back().kind, exactgeo::PathPointLocation::Kind::vertex);
+      EXPECT_EQ(path.locations.back().vertex, 0u);
+    }
+  }
+  for (std::size_t corner = 0; corner < at_zero.size(); ++corner) {
+    const std::span<const exactgeo::SurfacePoint> source(&at_zero[corner], 1);
+    const std::vector<double> d = exactgeo::geodesic_distance(mesh, source, GetParam()).distances;
+    EXPECT_TRUE(distances_match(d, euclidean(soup, 0), kExact)) << "source at corner " << corner;
+  }
+}
+
 // Two halves of a flat 12 x 6 sheet, each with its own copy of the 7 vertices on the seam x = 6.
 TEST_P(MeshPolicy, WeldMergesASeam) {
   MeshSoup soup = unit_grid(6);

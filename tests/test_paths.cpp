@@ -182,4 +182,35 @@ TEST_P(PathsOf, EveryVertexPathHasTheDistanceAsLengthAndStaysInFaces) {
   }
 }
 
+// Issue 34, finding 1: vertices 2 and 3 coincide, so face (1, 3, 2) has zero area and a zero-length edge. The
+// engine reached 3 by a ray through 2 and then, rounding one unit low, lowered 2 from 3 across that edge: each
+// vertex's last piece started at the other, and `path` failed ("the chain of pseudo-sources does not end at a
+// source"). The surface is the flat triangle (0, 1, 2), so every distance is the straight segment, and every
+// path must be as long.
+TEST_P(PathsOf, PathsGetThroughCoincidentVertices) {
+  const std::vector<double> positions = {0, 0, 0, 1, 0, 1, 0, 1, 2, 0, 1, 2};
+  const std::vector<std::uint32_t> triangles = {0, 1, 2, 1, 3, 2};
+  const exactgeo::Mesh mesh(positions, triangles);
+  ASSERT_EQ(mesh.report().zero_length_edges, 1u);
+  const auto at = [&](std::uint32_t v) { return Vec3{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]}; };
+  for (std::uint32_t source = 0; source < 4; ++source) {
+    exactgeo::GeodesicSolver solver(mesh);
+    const std::uint32_t sources[] = {source};
+    const exactgeo::GeodesicResult& result = solver.solve(sources, {}, GetParam());
+    for (std::uint32_t v = 0; v < 4; ++v) {
+      SCOPED_TRACE(testing::Message() << "source " << source << ", vertex " << v);
+      const double straight = exactgeo_test::distance(at(source), at(v));
+      EXPECT_NEAR(result.distances[v], straight, 1e-15 * 3);
+      GeodesicPath path;
+      ASSERT_NO_THROW(path = solver.path_to_vertex(v));
+      EXPECT_NEAR(path.length, straight, 1e-12 * std::max(1.0, straight));
+      ASSERT_FALSE(path.locations.empty());
+      EXPECT_EQ(path.locations.front().kind, PathPointLocation::Kind::vertex);
+      EXPECT_EQ(path.locations.front().vertex, source);
+      EXPECT_EQ(path.locations.back().kind, PathPointLocation::Kind::vertex);
+      EXPECT_EQ(path.locations.back().vertex, v);
+    }
+  }
+}
+
 }  // namespace

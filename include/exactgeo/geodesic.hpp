@@ -198,8 +198,10 @@ class EXACTGEO_API GeodesicSolver {
   // their distances are computed too and the propagation stops as soon as they are final: vertex distances
   // are then exact up to the farthest target and +inf beyond. max_distance cuts targets off like vertices
   // (+inf beyond it; the run stops there); without it every target gets its exact distance, however far
-  // (what gdist and pygeodesic return whatever their max_distance). Throws exactgeo::Error(invalid_argument)
-  // naming the offending source, target or option.
+  // (what gdist and pygeodesic return whatever their max_distance). A source or target at a corner is that
+  // input vertex: a source at each of its surface copies, a target with its distance in `distances` (the
+  // smallest over the copies). Throws exactgeo::Error(invalid_argument) naming the offending source, target or
+  // option.
   const GeodesicResult& solve(std::span<const SurfacePoint> sources, std::span<const SurfacePoint> targets = {},
                               const GeodesicOptions& options = {});
   // Sources at input vertices. A vertex that the mesh policy split into several surface copies is a

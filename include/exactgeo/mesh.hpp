@@ -8,7 +8,8 @@
 // - zero-area faces and zero-length edges are kept and handled by the engine without NaN;
 // - edges shared by more than two faces are cut (each face sees a boundary there), and vertices whose
 //   faces then form several separate fans are split into one surface vertex per fan; distances are exact
-//   on that manifold surface, and an input vertex's distance is the smallest over its copies;
+//   on that manifold surface, and an input vertex's distance is the smallest over its copies, also as a
+//   target (by index, or as a point at any corner of it; a source there starts from every copy);
 // - face orientation is irrelevant: an edge shared by two faces joins them whatever their winding;
 // - vertices with identical positions stay apart unless MeshOptions::weld_duplicate_positions is set;
 // - any finite coordinates work, from subnormal to the largest double: the engine runs on the positions

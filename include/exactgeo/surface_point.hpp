@@ -4,6 +4,11 @@
 // as low as -kBarycentricSlack and their sum may differ from 1 by up to kBarycentricSlack; they are then
 // clamped to [0, 1] and rescaled to sum to 1, and a coordinate below kBarycentricSnap is set to 0. So
 // (0.5, 0.5, -1e-17) is the midpoint of an edge and (1 - 1e-17, 1e-17, 0) is a vertex.
+//
+// A point at a corner is that input vertex, whichever face names it. Where the mesh policy split the vertex
+// into several surface copies (a non-manifold vertex, mesh.hpp), a target there has the smallest distance
+// over the copies, as GeodesicResult::distances has it, and its path goes to the copy with that distance; a
+// source there starts from every copy, as a source vertex does.
 #pragma once
 
 #include <array>
@@ -22,8 +27,9 @@ struct SurfacePoint {
 inline constexpr double kBarycentricSlack = 1e-6;
 inline constexpr double kBarycentricSnap = 1e-12;
 
-// The point at input vertex `vertex` (on the first kept triangle that uses it). Throws
-// exactgeo::Error(invalid_argument) if the index is out of range or the vertex is used by no kept triangle.
+// The point at input vertex `vertex` (a corner of a kept triangle that uses it; as a source or target it is the
+// vertex itself, see above). Throws exactgeo::Error(invalid_argument) if the index is out of range or the
+// vertex is used by no kept triangle.
 EXACTGEO_API SurfacePoint vertex_point(const Mesh& mesh, std::uint32_t vertex);
 
 // The point (1 - t) * from + t * to on the edge between input vertices `from` and `to`, t in [0, 1] (on the

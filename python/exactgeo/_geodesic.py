@@ -128,9 +128,10 @@ class GeodesicSolver:
         """Distances from the nearest of `sources` to every vertex, and to `targets` if given.
 
         Sources and targets are vertex indices (an int, a list or an array of any integer dtype), a
-        SurfacePoint, a list of them, or SurfacePoints. A vertex source split by the mesh into several
-        surface copies (non-manifold) is a source at each, so sources are either all vertices or all points.
-        Targets may mix the two: a vertex target is the point at the vertex on its first face. With targets,
+        SurfacePoint, a list of them, or SurfacePoints; sources are either all vertices or all points, targets
+        may mix the two. A vertex, or a point at a corner of a face, is that input vertex: where the mesh split
+        it into several surface copies (non-manifold), a source there is a source at each copy, and a target
+        has the smallest distance over them, as `distances` has it. With targets,
         the run stops as soon as they are final: vertex distances are then exact up to the farthest target
         and inf beyond. `max_distance`: nothing farther is computed (inf), targets included: the run stops
         at the cut-off. `targets_beyond="exact"` answers every target exactly instead, as gdist and

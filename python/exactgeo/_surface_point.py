@@ -108,7 +108,7 @@ def source_sites(sources: Any, mesh: Mesh) -> np.ndarray | SurfacePoints:
 
 
 def target_points(targets: Any, mesh: Mesh) -> SurfacePoints:
-    """Targets are points: a vertex target is the point at the vertex on the first face that uses it."""
+    """Targets are points: a vertex target is the point at the vertex (which is the vertex, all its copies)."""
     if not _holds_points(targets):
         vertices = _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
         return SurfacePoints(*_core.vertex_points(mesh._core, vertices, "target"))
@@ -137,7 +137,7 @@ def _vertex_target(mesh: Mesh, index: int, vertex: int) -> SurfacePoint:
 
 
 def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
-    """The point at input vertex `vertex`, on the first face that uses it."""
+    """The point at input vertex `vertex`: as a source or target, the vertex itself (every surface copy of it)."""
     mesh = checked_mesh(mesh)
     vertices = _inputs.vertex_array(vertex, mesh.vertex_count, "vertex", lambda i: "vertex")
     faces, barycentric = _core.vertex_points(mesh._core, vertices, "")

@@ -109,3 +109,33 @@ def test_several_targets_give_several_paths_from_one_run(sheet):
     points = exactgeo.path(sheet, 0, [exactgeo.SurfacePoint(5, (0.2, 0.3, 0.5)), 44])
     assert len(points) == 2
     assert points[1].length == pytest.approx(exactgeo.distance(sheet, 0)[44], rel=1e-12)
+
+
+def test_a_path_gets_through_coincident_vertices():
+    """Issue 34: vertices 2 and 3 coincide, an edge of zero length, and the path raised RuntimeError ("path
+    tracing failed"). The surface is the flat triangle 0 1 2: the path is the straight segment."""
+    mesh = exactgeo.Mesh([[0, 0, 0], [1, 0, 1], [0, 1, 2], [0, 1, 2]], [[0, 1, 2], [1, 3, 2]])
+    for target in (2, 3):
+        path = exactgeo.path(mesh, 0, target)
+        assert path.length == pytest.approx(np.sqrt(5), rel=1e-12)
+        assert path.vertices[-1, 0] == target
+
+
+def test_a_target_at_a_split_vertex_is_that_vertex():
+    """Issue 34: vertex 0 of a bowtie (two triangles meeting there only) is split into one copy per wing; as a
+    target, by index or as the corner of either face, it stood on one face, and from the other wing got inf.
+    It now has its per-vertex distance, straight along an edge, and a path as long."""
+    vertices = np.array([[0, 0, 0], [3, 0, 0], [0, 4, 0], [-2, 0, 0], [0, 0, -1]], dtype=float)
+    mesh = exactgeo.Mesh(vertices, [[0, 1, 2], [0, 3, 4]])
+    at_zero = [0, exactgeo.SurfacePoint(0, (1, 0, 0)), exactgeo.SurfacePoint(1, (1, 0, 0))]
+    for source in range(1, 5):
+        along_edge = np.linalg.norm(vertices[source])
+        solver = exactgeo.GeodesicSolver(mesh)
+        result = solver.solve(source, targets=at_zero)
+        assert result.distances[0] == pytest.approx(along_edge, rel=1e-15)
+        np.testing.assert_array_equal(result.target_distances, result.distances[0])
+        for target in range(len(at_zero)):
+            assert solver.path_to_target(target).length == pytest.approx(along_edge, rel=1e-15)
+    # A source at either corner of vertex 0 is vertex 0, in both wings.
+    for corner in at_zero[1:]:
+        np.testing.assert_allclose(exactgeo.distance(mesh, corner), np.linalg.norm(vertices, axis=1), rtol=1e-15)

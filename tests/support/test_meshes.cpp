@@ -299,6 +299,129 @@ exactgeo::MeshSoup randomly_rotated(exactgeo::MeshSoup soup, Random& random) {
   return soup;
 }
 
+namespace {
+
+// Appends `piece` to `glued`; its vertex k becomes soup vertex shared[k], or a new one where that is kNew.
+constexpr std::uint32_t kNew = UINT32_MAX;
+void glue(GluedPieces& glued, const exactgeo::MeshSoup& piece, std::vector<std::uint32_t> shared) {
+  for (std::uint32_t k = 0; k < vertex_count(piece); ++k)
+    if (shared[k] == kNew) shared[k] = add_vertex(glued.soup, vertex_position(piece, k));
+  for (std::size_t f = 0; f < face_count(piece); ++f)
+    add_triangle(glued.soup, shared[piece.triangles[3 * f]], shared[piece.triangles[3 * f + 1]],
+                 shared[piece.triangles[3 * f + 2]]);
+  glued.pieces.push_back(piece);
+  glued.vertex_of.push_back(std::move(shared));
+}
+
+int between(Random& random, int lo, int hi) {
+  return lo + static_cast<int>(random.below(static_cast<std::size_t>(hi - lo + 1)));
+}
+
+}  // namespace
+
+GluedPieces random_bowtie(Random& random, int wings) {
+  GluedPieces glued;
+  std::uint32_t hub_vertex = kNew;  // in the soup
+  for (int wing = 0; wing < wings; ++wing) {
+    exactgeo::MeshSoup patch = random_height_field(random, between(random, 1, 4), between(random, 1, 4),
+                                                   random.uniform(0.05, 0.5), random.below(2) == 0);
+    const std::uint32_t hub = random.below(vertex_count(patch));
+    const Vec3 at = vertex_position(patch, hub);
+    for (std::size_t i = 0; i < patch.positions.size(); ++i) patch.positions[i] -= at[i % 3];  // hub at 0, exactly
+    patch = randomly_rotated(std::move(patch), random);  // which keeps it there
+    std::vector<std::uint32_t> shared(vertex_count(patch), kNew);
+    shared[hub] = hub_vertex;
+    glue(glued, patch, std::move(shared));
+    hub_vertex = glued.vertex_of.back()[hub];
+  }
+  return glued;
+}
+
+GluedPieces random_book(Random& random, int pages) {
+  GluedPieces glued;
+  const int spine_edges = between(random, 1, 4);
+  const double spine_length = random.uniform(0.5, 2);
+  std::vector<std::uint32_t> spine;  // soup vertices, from the first page
+  for (int page = 0; page < pages; ++page) {
+    // make_grid's (x, y): x away from the spine (x = 0), y along it; grid vertex (i, j) is j * (columns + 1) + i.
+    const int columns = between(random, 1, 4);
+    exactgeo::MeshSoup sheet = exactgeo::make_grid(columns, spine_edges, random.uniform(0.5, 2), spine_length);
+    const double angle = 2 * std::numbers::pi * (page + random.uniform(-0.2, 0.2)) / pages;
+    const Vec3 away = {std::cos(angle), std::sin(angle), 0}, normal = {-std::sin(angle), std::cos(angle), 0};
+    const double bumps = random.uniform(0, 0.3);
+    for (std::uint32_t v = 0; v < vertex_count(sheet); ++v) {
+      const double x = sheet.positions[3 * v], y = sheet.positions[3 * v + 1];
+      const double bump = x > 0 ? bumps * random.uniform(-1, 1) : 0;  // the spine stays straight
+      for (int k = 0; k < 3; ++k) sheet.positions[3 * v + k] = x * away[k] + bump * normal[k] + (k == 2 ? y : 0);
+    }
+    std::vector<std::uint32_t> shared(vertex_count(sheet), kNew);
+    if (page > 0)
+      for (int j = 0; j <= spine_edges; ++j) shared[j * (columns + 1)] = spine[j];
+    glue(glued, sheet, std::move(shared));
+    if (page == 0)
+      for (int j = 0; j <= spine_edges; ++j) spine.push_back(glued.vertex_of.back()[j * (columns + 1)]);
+  }
+  return glued;
+}
+
+exactgeo::MeshSoup random_sheet_with_fin(Random& random) {
+  const int nx = between(random, 3, 8), ny = between(random, 3, 8);
+  exactgeo::MeshSoup soup = random_height_field(random, nx, ny, random.uniform(0.01, 0.3), random.below(2) == 0);
+  // The fin stands on grid row j, an inner row, from column i0 to i1.
+  const int j = between(random, 1, ny - 1), i0 = between(random, 0, nx - 1), i1 = between(random, i0 + 1, nx);
+  const int levels = between(random, 1, 3);
+  const double height = random.uniform(0.1, 1);
+  std::vector<std::uint32_t> row_below;
+  for (int i = i0; i <= i1; ++i) row_below.push_back(static_cast<std::uint32_t>(j * (nx + 1) + i));
+  for (int level = 1; level <= levels; ++level) {
+    std::vector<std::uint32_t> row;
+    for (const std::uint32_t base : row_below) {
+      Vec3 p = vertex_position(soup, base);
+      p[1] += 0.05 * random.uniform(-1, 1);  // a bumpy fin, across the row
+      p[2] += height / levels;
+      row.push_back(add_vertex(soup, p));
+    }
+    for (std::size_t i = 0; i + 1 < row.size(); ++i) {
+      add_triangle(soup, row_below[i], row_below[i + 1], row[i + 1]);
+      add_triangle(soup, row_below[i], row[i + 1], row[i]);
+    }
+    row_below = row;
+  }
+  return soup;
+}
+
+exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& random, int count,
+                                            std::vector<std::uint32_t>& stands_for) {
+  stands_for.resize(vertex_count(soup));
+  std::iota(stands_for.begin(), stands_for.end(), 0u);
+  for (int added = 0; added < count; ++added) {
+    const std::vector<std::uint8_t> split = non_manifold_vertices(soup);
+    const auto edges = faces_of_edges(soup);
+    const auto faces_at = [&](std::uint32_t a, std::uint32_t b) {
+      return edges.at({std::min(a, b), std::max(a, b)}).size();
+    };
+    // Up to a few tries for a corner a of a face (a, b, c), a not split and ab, ac manifold.
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      const std::size_t face = random.below(face_count(soup));
+      const int k = static_cast<int>(random.below(3));
+      const std::uint32_t a = soup.triangles[3 * face + k], b = soup.triangles[3 * face + (k + 1) % 3],
+                          c = soup.triangles[3 * face + (k + 2) % 3];
+      if (split[a] || faces_at(a, b) > 2 || faces_at(a, c) > 2) continue;
+      const std::uint32_t a2 = add_vertex(soup, vertex_position(soup, a));
+      stands_for.push_back(stands_for[a]);
+      if (random.below(3) == 0 && faces_at(a, b) == 1) {
+        add_triangle(soup, b, a2, a);  // hanging on the boundary edge ab
+      } else {
+        soup.triangles[3 * face + k] = a2;
+        add_triangle(soup, a, a2, b);
+        add_triangle(soup, a2, a, c);
+      }
+      break;
+    }
+  }
+  return soup;
+}
+
 double max_finite(std::span<const double> values) {
   double largest = 0;
   for (double x : values)

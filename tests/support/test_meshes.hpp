@@ -123,6 +123,37 @@ exactgeo::MeshSoup random_grid_with_holes(Random& random, int nx, int ny, int ho
 // The soup turned by a random rotation about the origin.
 exactgeo::MeshSoup randomly_rotated(exactgeo::MeshSoup soup, Random& random);
 
+// ---- Coincident vertices and non-manifold junctions (seeded fuzzing) ------------------------------------
+
+// Manifold pieces glued at shared vertices into one soup: vertex k of pieces[i] is soup vertex vertex_of[i][k].
+struct GluedPieces {
+  exactgeo::MeshSoup soup;
+  std::vector<exactgeo::MeshSoup> pieces;
+  std::vector<std::vector<std::uint32_t>> vertex_of;
+};
+
+// `wings` random height-field patches (1 to 4 by 1 to 4 cells, each turned at random) sharing one vertex,
+// inside or on the border of each: a bowtie, whose vertex the mesh policy splits into one copy per wing.
+GluedPieces random_bowtie(Random& random, int wings);
+
+// `pages` bumpy pages at spread random angles around a spine of 1 to 4 edges that they all share: with three
+// pages or more, each spine edge is non-manifold, and the mesh policy cuts the pages apart.
+GluedPieces random_book(Random& random, int pages);
+
+// A random height field with a bumpy fin standing on a chain of inner edges along one grid row: each edge of
+// the chain has three faces and is cut, which takes the fin off and slits the sheet (so the surface is not
+// just its pieces apart).
+exactgeo::MeshSoup random_sheet_with_fin(Random& random);
+
+// The soup with `count` more vertices, each at the position of a vertex a that the mesh policy does not split
+// and joined to it by a zero-length edge: either a random face (a, b, c) takes the new vertex a2 in a's place
+// and two zero-area faces (a, a2, b) and (a2, a, c) stitch it back to what lay across ab and ac, or a boundary
+// edge ab gets a zero-area face (b, a2, a) hanging on it (the smallest case of issue 34). The surface stays the
+// same, so do the distances, a2's being a's. stands_for[v] is the vertex of the given soup at whose place each
+// vertex of the result lies (v itself for the given ones).
+exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& random, int count,
+                                            std::vector<std::uint32_t>& stands_for);
+
 // ---- Distances -----------------------------------------------------------------------------------------
 
 // Largest finite value, or 0 if there is none.
