@@ -6,10 +6,10 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <system_error>
-#include <thread>
 
 #include "exactgeo/error.hpp"
 #include "stop.hpp"
@@ -70,9 +70,10 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
       }
     };
     const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads, rows));
-    std::vector<std::jthread> pool;
+    std::vector<std::unique_ptr<detail::WorkerThread>> pool;
     try {
-      for (unsigned t = 1; t < workers; ++t) pool.emplace_back(work, std::ref(solvers[t]));
+      for (unsigned t = 1; t < workers; ++t)
+        pool.push_back(std::make_unique<detail::WorkerThread>([&work, &solver = solvers[t]] { work(solver); }));
     } catch (const std::system_error&) {
       // The system would not start another thread (a process or address-space limit): the rows are shared
       // from one counter, so the threads that started do them all.

@@ -15,12 +15,65 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <system_error>
 #include <thread>
 #include <vector>
 
+#if defined(__unix__) || defined(__APPLE__)
+#include <pthread.h>
+#endif
+
 namespace exactgeo::detail {
+
+// A joinable thread on a stack of kWorkerStackBytes instead of the system's default (8 MB on Linux): what
+// the engine's threads run needs little stack, and under an address-space limit (common on clusters) the
+// default stacks of a few dozen threads would take the room the run needs. Throws std::system_error if the
+// system will not start it. Joined when destroyed.
+class WorkerThread {
+ public:
+  static constexpr std::size_t kWorkerStackBytes = std::size_t{1} << 20;
+
+  template <class Body>
+  explicit WorkerThread(Body&& body) {
+#if defined(__unix__) || defined(__APPLE__)
+    auto* owned = new std::function<void()>(std::forward<Body>(body));
+    pthread_attr_t attributes;
+    pthread_attr_init(&attributes);
+    pthread_attr_setstacksize(&attributes, kWorkerStackBytes);
+    const int error = pthread_create(&handle_, &attributes, &run, owned);
+    pthread_attr_destroy(&attributes);
+    if (error != 0) {
+      delete owned;
+      throw std::system_error(error, std::generic_category(), "cannot start a thread");
+    }
+#else
+    thread_ = std::thread(std::forward<Body>(body));
+#endif
+  }
+  ~WorkerThread() {
+#if defined(__unix__) || defined(__APPLE__)
+    pthread_join(handle_, nullptr);
+#else
+    thread_.join();
+#endif
+  }
+  WorkerThread(const WorkerThread&) = delete;
+  WorkerThread& operator=(const WorkerThread&) = delete;
+
+ private:
+#if defined(__unix__) || defined(__APPLE__)
+  static void* run(void* body) {
+    const std::unique_ptr<std::function<void()>> owned(static_cast<std::function<void()>*>(body));
+    (*owned)();
+    return nullptr;
+  }
+  pthread_t handle_;
+#else
+  std::thread thread_;
+#endif
+};
 
 // The thread count a setting asks for: 0 means one per core (one where the count of cores is unknown).
 inline unsigned threads_or_cores(unsigned threads) {
@@ -68,7 +121,7 @@ class WorkerPool {
   std::mutex mutex_;  // for sleeping workers, and the first failure
   std::condition_variable wake_;
   std::exception_ptr failure_;
-  std::vector<std::jthread> workers_;  // last: they start once everything they read is set
+  std::vector<std::unique_ptr<WorkerThread>> workers_;  // last: they start once everything they read is set
 };
 
 // ------------------------------------------------------------------------------------------------------
@@ -120,7 +173,7 @@ inline WorkerPool::WorkerPool(unsigned threads)
       spin_time_(threads > std::thread::hardware_concurrency() ? std::chrono::microseconds(0)
                                                                : worker_pool_detail::kSpinTime) {
   try {
-    for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
+    for (unsigned t = 1; t < threads; ++t) workers_.push_back(std::make_unique<WorkerThread>([this, t] { work(t); }));
   } catch (const std::system_error&) {
   }
 }
