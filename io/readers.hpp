@@ -55,7 +55,7 @@ struct SoupAppender {
     soup.triangles.insert(soup.triangles.end(), {a, b, c});
   }
 };
-// ...or, read in chunks, each chunk writes them in place, from slots counted by an earlier pass.
+// ...read in chunks, each chunk writes them in place, from slots counted by an earlier pass...
 struct SoupWriter {
   double* next_position = nullptr;
   std::uint32_t* next_triangle = nullptr;
@@ -67,6 +67,12 @@ struct SoupWriter {
     next_triangle += 3;
   }
 };
+// ...and that counting pass only counts the triangles.
+struct TriangleCounter {
+  std::uint64_t triangles = 0;
+  void position(const std::array<double, 3>&) {}
+  void triangle(std::uint32_t, std::uint32_t, std::uint32_t) { ++triangles; }
+};
 
 // A polygon whose indices are already checked, as the triangles (c0 c1 c2), (c0 c2 c3), ...
 template <class Sink>
@@ -77,6 +83,12 @@ void emit_fan(std::span<const std::uint32_t> polygon, Sink& sink) {
 inline std::uint64_t fan_triangle_count(std::uint64_t corners) { return corners >= 3 ? corners - 2 : 0; }
 // Append the triangles (c0 c1 c2), (c0 c2 c3), ... of a polygon whose indices are already checked.
 void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles);
+
+// How an item is read: parsed, every value converted and checked (a malformed one is named), or skimmed, only
+// what fixes the item's extent and the triangles it makes converted (a list's length). A skimming pass finds
+// where each chunk's triangles start before the chunks are parsed; any error a skim meets, the parse meets
+// too, at that item or before.
+enum class Reading : std::uint8_t { parse, skim };
 
 // Editors on Windows start UTF-8 text with a byte-order mark; it is not part of the first line.
 inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
@@ -113,6 +125,8 @@ class TextCursor {
   // The next token, moving to later lines as needed; an empty view at the end of the file.
   std::string_view next_token_any_line();
 
+  // The next token on the current line; throws naming `what` if it is missing.
+  std::string_view read_token(std::string_view what);
   // The next token on the current line as a number; throws naming `what` if it is missing or malformed.
   double read_double(std::string_view what);
   std::int64_t read_integer(std::string_view what);
@@ -146,6 +160,28 @@ std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, 
 // Chunks below this are not worth a thread; the tests use smaller ones, so that small files run through the
 // chunked code too.
 inline constexpr std::size_t kMinChunkBytes = std::size_t{1} << 20;
+
+// A text body's chunks (bounds from line_chunks) and where each starts among the file's lines and among the
+// body's rows, the lines with a token (blank lines and comment lines are not rows). Entry k of lines_before
+// and rows_before is chunk k's; the last entry holds the file's lines and the body's rows.
+struct TextChunks {
+  std::vector<std::size_t> bounds;
+  std::vector<std::size_t> lines_before;
+  std::vector<std::uint64_t> rows_before;
+
+  std::size_t count() const { return bounds.size() - 1; }
+  // Chunk k's lines alone, numbered as in the whole file.
+  TextCursor cursor(const MeshFile& file, char comment, std::size_t k) const {
+    return TextCursor(file, comment, bounds[k], bounds[k + 1], lines_before[k]);
+  }
+  // A cursor past the last line, where a reading from start to end that wants another row finds none.
+  TextCursor end_cursor(const MeshFile& file, char comment) const {
+    return TextCursor(file, comment, bounds.back(), bounds.back(), lines_before.back());
+  }
+};
+// Counts each chunk's lines and rows on the team; `header_lines` come before the first chunk.
+TextChunks count_chunk_rows(const MeshFile& file, char comment, std::vector<std::size_t> bounds,
+                            std::size_t header_lines, const ParallelTeam& team);
 
 // Calls body(k) for each chunk k in [0, count) on the team. A chunk stops at its first Error, which is kept;
 // once all are done, the earliest chunk's is rethrown: with chunks in file order, the error that a reading

@@ -4,13 +4,18 @@
 // and on the shared meshes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
-#include <limits>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "exactgeo/error.hpp"
 #include "exactgeo/io.hpp"
@@ -122,6 +127,89 @@ TEST(IoChunks, BinaryStlSharesCornersAsInOrder) {
     const std::string bytes = random_binary_stl(random, 5 + file * 7, file % 3 == 2);
     expect_same_as_serial(&exactgeo::detail::read_stl, bytes, "random STL " + std::to_string(file));
   }
+}
+
+const char* random_line_end(std::mt19937_64& random) {
+  const char* endings[] = {"\n", "\r\n", "\r"};
+  return endings[random() % 3];
+}
+
+// How many of the files a generator makes read without error: a generator whose files all fail (or none
+// does) tests less than it seems to.
+struct Tally {
+  int valid = 0, failed = 0;
+  void add(Reader reader, const std::string& text) {
+    WorkerPool one(1);
+    (read_with(reader, {"chunks.txt", text}, one, exactgeo::detail::kMinChunkBytes).error.empty() ? valid : failed)++;
+  }
+};
+
+// A random OFF text: the keyword or none (COFF's vertex rows carry a colour), the counts on the keyword's line
+// or a later one, comments and blank lines anywhere, polygons of 3 to 5 corners with optional colours, rows
+// after the last face (never read), any mix of LF, CRLF and lone CR; with `defects`, a chance of a bad
+// number, an index out of range, too few corners, a missing index or coordinate, or missing rows.
+std::string random_off(std::mt19937_64& random, int vertex_count, int face_count, bool defects) {
+  std::uniform_real_distribution<double> coordinate(-10, 10);
+  const int keyword = static_cast<int>(random() % 4);  // OFF, COFF, none, OFF with the counts
+  std::vector<std::string> header = {keyword == 0 ? "OFF" : keyword == 1 ? "COFF" : ""};
+  const std::string counts = std::to_string(vertex_count) + " " + std::to_string(face_count) + " 0";
+  if (keyword == 3) {
+    header[0] = "OFF " + counts;
+  } else {
+    header.push_back("# the counts");
+    header.push_back(counts);
+  }
+  std::vector<std::string> rows;
+  for (int v = 0; v < vertex_count; ++v) {
+    char buffer[96];
+    std::snprintf(buffer, sizeof buffer, "%.17g %.9g %g", coordinate(random), coordinate(random), coordinate(random));
+    rows.push_back(buffer);
+    if (keyword == 1) rows.back() += " 0.5 0.5 1 1";
+    if (random() % 8 == 0) rows.back() += " # a vertex";
+  }
+  for (int f = 0; f < face_count; ++f) {
+    const int corners = 3 + static_cast<int>(random() % 3);
+    rows.push_back(std::to_string(corners));
+    for (int c = 0; c < corners; ++c) rows.back() += " " + std::to_string(random() % vertex_count);
+    if (random() % 4 == 0) rows.back() += " 255 0 0";
+  }
+  if (random() % 3 == 0) rows.push_back(random() % 2 ? "3 0 1 2" : "not read");
+  if (defects && random() % 3 != 0) {
+    std::string& vertex = rows[random() % vertex_count];
+    std::string& face = rows[vertex_count + random() % face_count];
+    switch (random() % 7) {
+      case 0: vertex.replace(0, vertex.find(' '), "1.5.3"); break;
+      case 1: vertex = "0 0"; break;
+      case 2: face = "3 0 1 " + std::to_string(random() % 2 ? vertex_count + 1 : -1); break;
+      case 3: face = "2 0 1"; break;
+      case 4: face = "4 0 1 2"; break;
+      case 5: vertex = "1 nan 0"; break;
+      case 6: rows.resize(rows.size() - 1 - random() % rows.size()); break;
+    }
+  }
+  std::string text = random() % 4 == 0 ? "\xEF\xBB\xBF" : "";
+  const auto add_line = [&](const std::string& line) {
+    const int extra = static_cast<int>(random() % 10);
+    if (extra == 0) text += std::string(random_line_end(random)) + (random() % 2 ? "  " : "");  // a blank line
+    if (extra == 1) text += std::string("# between") + random_line_end(random);
+    text += line + random_line_end(random);
+  };
+  for (const std::string& line : header)
+    if (!line.empty()) add_line(line);
+  for (const std::string& row : rows) add_line(row);
+  return text;
+}
+
+TEST(IoChunks, RandomOffFilesReadTheSameInChunks) {
+  std::mt19937_64 random(5150);
+  Tally tally;
+  for (int file = 0; file < 80; ++file) {
+    const std::string text = random_off(random, 3 + file % 17, 1 + file % 23, file % 2 == 1);
+    expect_same_as_serial(&exactgeo::detail::read_off, text, "random OFF " + std::to_string(file));
+    tally.add(&exactgeo::detail::read_off, text);
+  }
+  EXPECT_GE(tally.valid, 40);
+  EXPECT_GE(tally.failed, 15);
 }
 
 TEST(IoChunks, ErrorsNameTheirLineInAnyChunk) {
