@@ -98,12 +98,6 @@ std::string too_many_vertices(std::uint64_t vertex_count) {
   return std::to_string(vertex_count) + " vertices exceed the range of 32-bit indices";
 }
 
-void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles) {
-  for (std::size_t i = 2; i < polygon.size(); ++i) {
-    triangles.insert(triangles.end(), {polygon[0], polygon[i - 1], polygon[i]});
-  }
-}
-
 std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, const ParallelTeam& team,
                                      std::size_t min_chunk_bytes) {
   const std::size_t size = bytes.size() - std::min(begin, bytes.size());

@@ -81,8 +81,6 @@ void emit_fan(std::span<const std::uint32_t> polygon, Sink& sink) {
 }
 // How many triangles emit_fan makes of a polygon with `corners` corners (none of one with too few, an error).
 inline std::uint64_t fan_triangle_count(std::uint64_t corners) { return corners >= 3 ? corners - 2 : 0; }
-// Append the triangles (c0 c1 c2), (c0 c2 c3), ... of a polygon whose indices are already checked.
-void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles);
 
 // How an item is read: parsed, every value converted and checked (a malformed one is named), or skimmed, only
 // what fixes the item's extent and the triangles it makes converted (a list's length). A skimming pass finds

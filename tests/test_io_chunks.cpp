@@ -212,6 +212,232 @@ TEST(IoChunks, RandomOffFilesReadTheSameInChunks) {
   EXPECT_GE(tally.failed, 15);
 }
 
+// A PLY file as generated: its elements, each item's values per property (a list's start with its length),
+// written as ASCII rows or as binary in either byte order.
+struct PlyModel {
+  struct Property {
+    std::string count_type;  // empty for a scalar
+    std::string type, name;
+    // The type of the property's i-th value: a list's length comes first.
+    const std::string& type_of(std::size_t i) const { return i == 0 && !count_type.empty() ? count_type : type; }
+    std::string declaration() const {
+      return (count_type.empty() ? "" : "list " + count_type + " ") + type + " " + name;
+    }
+  };
+  struct Element {
+    std::string name;
+    std::uint64_t count = 0;  // as declared; the items may be fewer
+    std::vector<Property> properties;
+    std::vector<std::vector<std::vector<double>>> items;
+  };
+  std::vector<Element> elements;
+
+  Element& element(const std::string& name) {
+    return *std::find_if(elements.begin(), elements.end(), [&](const Element& e) { return e.name == name; });
+  }
+  static bool is_float(const std::string& type) {
+    return type == "float" || type == "double" || type == "float32" || type == "float64";
+  }
+  static bool is_signed(const std::string& type) {
+    return is_float(type) || type == "char" || type == "short" || type == "int" || type.starts_with("int");
+  }
+
+  std::vector<std::string> header_lines(const std::string& format) const {
+    std::vector<std::string> lines = {"ply", "format " + format + " 1.0", "comment generated"};
+    for (const Element& element : elements) {
+      lines.push_back("element " + element.name + " " + std::to_string(element.count));
+      for (const Property& property : element.properties) lines.push_back("property " + property.declaration());
+    }
+    lines.push_back("end_header");
+    return lines;
+  }
+
+  // Each item's values as the tokens of its row.
+  std::vector<std::vector<std::string>> ascii_rows() const {
+    std::vector<std::vector<std::string>> rows;
+    for (const Element& element : elements)
+      for (const auto& item : element.items) {
+        rows.emplace_back();
+        for (std::size_t p = 0; p < element.properties.size(); ++p)
+          for (std::size_t i = 0; i < item[p].size(); ++i) {
+            char buffer[40];
+            std::snprintf(buffer, sizeof buffer, is_float(element.properties[p].type_of(i)) ? "%.17g" : "%.0f",
+                          item[p][i]);
+            rows.back().push_back(buffer);
+          }
+      }
+    return rows;
+  }
+
+  std::string binary_body(bool big_endian) const {
+    std::string bytes;
+    const auto put = [&](auto value) {
+      char raw[sizeof value];
+      std::memcpy(raw, &value, sizeof value);
+      if (big_endian != (std::endian::native == std::endian::big)) std::reverse(raw, raw + sizeof value);
+      bytes.append(raw, sizeof value);
+    };
+    const auto put_as = [&](const std::string& type, double value) {
+      if (type == "char" || type == "int8") put(static_cast<std::int8_t>(value));
+      if (type == "uchar" || type == "uint8") put(static_cast<std::uint8_t>(value));
+      if (type == "short" || type == "int16") put(static_cast<std::int16_t>(value));
+      if (type == "ushort" || type == "uint16") put(static_cast<std::uint16_t>(value));
+      if (type == "int" || type == "int32") put(static_cast<std::int32_t>(value));
+      if (type == "uint" || type == "uint32") put(static_cast<std::uint32_t>(value));
+      if (type == "float" || type == "float32") put(static_cast<float>(value));
+      if (type == "double" || type == "float64") put(value);
+    };
+    for (const Element& element : elements)
+      for (const auto& item : element.items)
+        for (std::size_t p = 0; p < element.properties.size(); ++p)
+          for (std::size_t i = 0; i < item[p].size(); ++i) put_as(element.properties[p].type_of(i), item[p][i]);
+    return bytes;
+  }
+};
+
+// Random elements: sometimes one before the vertices and one after the faces (with lists), vertices with
+// x, y, z of any type among other values (sometimes a list), an element without properties, faces of 3 to 5
+// corners (or all triangles) with values beside the index list, sometimes triangle strips.
+PlyModel random_ply_model(std::mt19937_64& random) {
+  const auto pick = [&](std::initializer_list<const char*> names) {
+    return std::string(names.begin()[random() % names.size()]);
+  };
+  const auto any_scalar = [&] {
+    return pick({"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint16", "float32",
+                 "float64"});
+  };
+  // A value in the range of every type (char's included).
+  const auto value_of = [&](const std::string& type) {
+    return PlyModel::is_float(type) ? std::uniform_real_distribution<double>(-10, 10)(random)
+                                    : static_cast<double>(random() % 100) - (PlyModel::is_signed(type) ? 50 : 0);
+  };
+  const auto scalar = [&](const std::string& type) { return std::vector<double>{value_of(type)}; };
+  const auto list = [&](const std::string& type, std::size_t length) {
+    std::vector<double> values = {static_cast<double>(length)};
+    for (std::size_t i = 0; i < length; ++i) values.push_back(value_of(type));
+    return values;
+  };
+
+  PlyModel model;
+  const std::uint64_t vertex_count = 3 + random() % 20;
+  if (random() % 4 == 0) {
+    model.elements.push_back({"camera", 1 + random() % 2, {{"", "float", "a"}, {"uchar", "int", "ids"}}, {}});
+  }
+  PlyModel::Element vertex{"vertex", vertex_count, {}, {}};
+  for (const char* axis : {"x", "y", "z"}) {
+    vertex.properties.push_back({"", random() % 4 == 0 ? any_scalar() : pick({"float", "double"}), axis});
+  }
+  for (std::uint64_t extra = random() % 3; extra > 0; --extra) {
+    vertex.properties.insert(vertex.properties.begin() + static_cast<std::ptrdiff_t>(random() % 4),
+                             {"", any_scalar(), "extra" + std::to_string(extra)});
+  }
+  if (random() % 5 == 0) vertex.properties.push_back({pick({"uchar", "int"}), "float", "weights"});
+  model.elements.push_back(vertex);
+  if (random() % 6 == 0) model.elements.push_back({"nothing", 5000000000, {}, {}});
+  PlyModel::Element face{"face", 1 + random() % 25, {}, {}};
+  if (random() % 3 == 0) face.properties.push_back({"", "uchar", "flags"});
+  face.properties.push_back({pick({"uchar", "int", "char", "ushort", "uint8", "int32"}),
+                             vertex_count < 100 && random() % 4 == 0 ? pick({"uchar", "short", "float"})
+                                                                     : pick({"int", "uint", "int32", "uint32"}),
+                             random() % 5 == 0 ? "vertex_index" : "vertex_indices"});
+  if (random() % 3 == 0) face.properties.push_back({"", "float", "quality"});
+  model.elements.push_back(face);
+  if (random() % 6 == 0) {
+    model.elements.push_back({"tristrips", 1 + random() % 2, {{"int", "int", "vertex_indices"}}, {}});
+  }
+  if (random() % 4 == 0) model.elements.push_back({"material", 1 + random() % 3, {{"int", "double", "values"}}, {}});
+
+  const bool all_triangles = random() % 2 == 0;
+  for (PlyModel::Element& element : model.elements) {
+    element.items.resize(element.properties.empty() ? 0 : element.count);
+    for (auto& item : element.items) {
+      for (const PlyModel::Property& property : element.properties) {
+        if (property.count_type.empty()) {
+          item.push_back(scalar(property.type));
+        } else if (property.name.starts_with("vertex_ind")) {
+          const bool strip = element.name == "tristrips";
+          const std::size_t corners = strip ? 3 + random() % 6 : all_triangles ? 3 : 3 + random() % 3;
+          std::vector<double> indices = {static_cast<double>(corners)};
+          for (std::size_t c = 0; c < corners; ++c) {
+            indices.push_back(strip && random() % 5 == 0 ? -1.0 : static_cast<double>(random() % vertex_count));
+          }
+          item.push_back(indices);
+        } else {
+          item.push_back(list(property.type, random() % 4));
+        }
+      }
+    }
+  }
+  return model;
+}
+
+// One defect in the values, where the model allows it: a non-finite coordinate, an index out of range or not
+// whole, too few corners, a negative list length.
+void add_value_defect(std::mt19937_64& random, PlyModel& model) {
+  PlyModel::Element& vertex = model.element("vertex");
+  PlyModel::Element& face = model.element("face");
+  const std::size_t corner_list = face.properties.front().count_type.empty() ? 1 : 0;
+  const PlyModel::Property& corners = face.properties[corner_list];
+  std::vector<double>& polygon = face.items[random() % face.items.size()][corner_list];
+  switch (random() % 5) {
+    case 0: {
+      const std::size_t axis = random() % vertex.properties.size();
+      if (vertex.properties[axis].count_type.empty() && PlyModel::is_float(vertex.properties[axis].type)) {
+        vertex.items[random() % vertex.items.size()][axis][0] = random() % 2 ? std::nan("") : -HUGE_VAL;
+      }
+      break;
+    }
+    case 1: polygon[1 + random() % (polygon.size() - 1)] = static_cast<double>(vertex.count + random() % 5); break;
+    case 2:
+      if (PlyModel::is_float(corners.type)) polygon[1] = 1.5;
+      else if (PlyModel::is_signed(corners.type)) polygon[1] = -1;
+      break;
+    case 3: polygon = {2, 0, 1}; break;
+    case 4:
+      if (PlyModel::is_signed(corners.count_type)) polygon = {-1};
+      break;
+  }
+}
+
+// A random ASCII PLY: rows of a random model, each ending in LF, CRLF or a lone CR, with blank lines between
+// and rows after the last item (never read); with `defects`, a chance of a defect in the values, a malformed
+// number, a value too many or too few on a row, or missing rows.
+std::string random_ascii_ply(std::mt19937_64& random, bool defects) {
+  PlyModel model = random_ply_model(random);
+  if (defects && random() % 3 == 0) add_value_defect(random, model);
+  std::vector<std::vector<std::string>> rows = model.ascii_rows();
+  if (random() % 4 == 0) rows.push_back({"1", "2", "3"});
+  if (defects && random() % 2 == 0) {
+    std::vector<std::string>& row = rows[random() % rows.size()];
+    switch (random() % 4) {
+      case 0: row[random() % row.size()] = random() % 2 ? "x" : "1e"; break;
+      case 1: row.push_back("7"); break;
+      case 2: row.pop_back(); break;
+      case 3: rows.resize(rows.size() - 1 - random() % rows.size()); break;
+    }
+  }
+  std::string text;
+  for (const std::string& line : model.header_lines("ascii")) text += line + random_line_end(random);
+  for (const std::vector<std::string>& row : rows) {
+    if (random() % 8 == 0) text += std::string(random() % 2 ? " \t" : "") + random_line_end(random);
+    for (std::size_t t = 0; t < row.size(); ++t) text += (t == 0 ? "" : random() % 5 == 0 ? "  " : " ") + row[t];
+    text += random_line_end(random);
+  }
+  return text;
+}
+
+TEST(IoChunks, RandomAsciiPlyFilesReadTheSameInChunks) {
+  std::mt19937_64 random(1994);
+  Tally tally;
+  for (int file = 0; file < 120; ++file) {
+    const std::string text = random_ascii_ply(random, file % 2 == 1);
+    expect_same_as_serial(&exactgeo::detail::read_ply, text, "random ASCII PLY " + std::to_string(file));
+    tally.add(&exactgeo::detail::read_ply, text);
+  }
+  EXPECT_GE(tally.valid, 60);
+  EXPECT_GE(tally.failed, 20);
+}
+
 TEST(IoChunks, ErrorsNameTheirLineInAnyChunk) {
   // The first of several errors is reported, whichever chunk holds it.
   const std::string text = "v 0 0 0\r\nv 1 0 0\rv 0 1 0\n\nf 1 2 3\r\nf 1 2 x\nf 1 2 0\nv 1 1 nan\n";
