@@ -1,7 +1,8 @@
 // Reading in chunks on several threads gives what reading from start to end gives: the same soup, or the same
-// first error with the same line number. Checked on seeded random files with every line ending, comments,
-// relative indices and defects, cut into chunks of a few bytes (so that chunks begin and end everywhere),
-// and on the shared meshes.
+// first error with the same line number or element item. Checked on seeded random files of every format
+// with every line ending, comments, extra values and elements, and defects, cut into chunks of a few bytes
+// and blocks of single items (so that chunks begin and end everywhere), and on the shared meshes, also
+// written as OFF and PLY.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -438,6 +439,35 @@ TEST(IoChunks, RandomAsciiPlyFilesReadTheSameInChunks) {
   EXPECT_GE(tally.failed, 20);
 }
 
+// A random binary PLY in either byte order, its header's lines ending alike in LF, CRLF or a lone CR; with
+// `defects`, a chance of a defect in the values or of the file cut short anywhere in its body.
+std::string random_binary_ply(std::mt19937_64& random, bool defects) {
+  PlyModel model = random_ply_model(random);
+  if (defects && random() % 2 == 0) add_value_defect(random, model);
+  const bool big_endian = random() % 2 == 0;
+  const char* line_end = random() % 4 == 0 ? random_line_end(random) : "\n";
+  std::string bytes;
+  for (const std::string& line : model.header_lines(big_endian ? "binary_big_endian" : "binary_little_endian")) {
+    bytes += line + line_end;
+  }
+  const std::size_t header_size = bytes.size();
+  bytes += model.binary_body(big_endian);
+  if (defects && random() % 3 == 0) bytes.resize(header_size + random() % (bytes.size() - header_size));
+  return bytes;
+}
+
+TEST(IoChunks, RandomBinaryPlyFilesReadTheSameOnTheTeam) {
+  std::mt19937_64 random(777);
+  Tally tally;
+  for (int file = 0; file < 160; ++file) {
+    const std::string bytes = random_binary_ply(random, file % 2 == 1);
+    expect_same_as_serial(&exactgeo::detail::read_ply, bytes, "random binary PLY " + std::to_string(file));
+    tally.add(&exactgeo::detail::read_ply, bytes);
+  }
+  EXPECT_GE(tally.valid, 80);
+  EXPECT_GE(tally.failed, 25);
+}
+
 TEST(IoChunks, ErrorsNameTheirLineInAnyChunk) {
   // The first of several errors is reported, whichever chunk holds it.
   const std::string text = "v 0 0 0\r\nv 1 0 0\rv 0 1 0\n\nf 1 2 3\r\nf 1 2 x\nf 1 2 0\nv 1 1 nan\n";
@@ -445,6 +475,50 @@ TEST(IoChunks, ErrorsNameTheirLineInAnyChunk) {
   WorkerPool two(2);
   const Outcome chunked = read_with(&exactgeo::detail::read_obj, {"chunks.txt", text}, two, 1);
   EXPECT_NE(chunked.error.find("chunks.txt:6:"), std::string::npos) << chunked.error;
+}
+
+// A soup as a PLY model: double x, y, z and a list uchar int vertex_indices.
+PlyModel ply_model_of(const MeshSoup& soup) {
+  PlyModel model;
+  model.elements.push_back(
+      {"vertex", soup.positions.size() / 3, {{"", "double", "x"}, {"", "double", "y"}, {"", "double", "z"}}, {}});
+  for (std::size_t v = 0; v < soup.positions.size(); v += 3) {
+    model.elements.back().items.push_back({{soup.positions[v]}, {soup.positions[v + 1]}, {soup.positions[v + 2]}});
+  }
+  model.elements.push_back({"face", soup.triangles.size() / 3, {{"uchar", "int", "vertex_indices"}}, {}});
+  for (std::size_t t = 0; t < soup.triangles.size(); t += 3) {
+    const auto corner = [&](std::size_t c) { return static_cast<double>(soup.triangles[t + c]); };
+    model.elements.back().items.push_back({{3, corner(0), corner(1), corner(2)}});
+  }
+  return model;
+}
+
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
+}
+
+// The soup as each format would hold it: OFF, ASCII PLY, binary PLY in both byte orders.
+std::vector<std::pair<std::string, std::string>> other_formats_of(const MeshSoup& soup) {
+  const PlyModel model = ply_model_of(soup);
+  std::vector<std::string> ascii_lines;
+  for (const std::vector<std::string>& row : model.ascii_rows()) {
+    std::string line;
+    for (const std::string& token : row) line += (line.empty() ? "" : " ") + token;
+    ascii_lines.push_back(line);
+  }
+  const std::string ascii_body = join_lines(ascii_lines);
+  std::vector<std::pair<std::string, std::string>> files;
+  files.emplace_back("OFF", "OFF\n" + std::to_string(soup.positions.size() / 3) + " " +
+                                std::to_string(soup.triangles.size() / 3) + " 0\n" + ascii_body);
+  files.emplace_back("ASCII PLY", join_lines(model.header_lines("ascii")) + ascii_body);
+  for (bool big_endian : {false, true}) {
+    files.emplace_back(big_endian ? "big-endian PLY" : "little-endian PLY",
+                       join_lines(model.header_lines(big_endian ? "binary_big_endian" : "binary_little_endian")) +
+                           model.binary_body(big_endian));
+  }
+  return files;
 }
 
 TEST(IoChunks, SharedMeshesReadTheSameInChunks) {
@@ -459,6 +533,17 @@ TEST(IoChunks, SharedMeshesReadTheSameInChunks) {
     EXPECT_EQ(chunked.error, "") << name;
     EXPECT_EQ(chunked.soup.positions, whole.positions) << name;
     EXPECT_EQ(chunked.soup.triangles, whole.triangles) << name;
+    // Written as OFF and PLY, the mesh reads back as the same soup, whole or in chunks of 4 KiB.
+    WorkerPool one(1);
+    for (const auto& [format, bytes] : other_formats_of(whole)) {
+      const Reader reader = format == "OFF" ? &exactgeo::detail::read_off : &exactgeo::detail::read_ply;
+      for (const Outcome& outcome : {read_with(reader, {name, bytes}, one, exactgeo::detail::kMinChunkBytes),
+                                     read_with(reader, {name, bytes}, three, 4096)}) {
+        EXPECT_EQ(outcome.error, "") << name << " as " << format;
+        EXPECT_EQ(outcome.soup.positions, whole.positions) << name << " as " << format;
+        EXPECT_EQ(outcome.soup.triangles, whole.triangles) << name << " as " << format;
+      }
+    }
   }
 }
 
