@@ -114,7 +114,7 @@ TEST(MeshBuild, JunkBuildsTheSameOnAnyTeam) {
   for (int i = 0; i < 12; ++i) {
     const MeshSoup soup = junk_soup(random);
     // The junk is there to be handled.
-    const exactgeo::MeshReport& report = build(soup, false, 1, 0)->report;
+    const exactgeo::MeshReport report = build(soup, false, 1, 0)->report;  // a copy: the mesh is a temporary
     EXPECT_GT(report.duplicate_faces, 0u);
     EXPECT_GT(report.faces_repeating_a_vertex, 0u);
     EXPECT_GT(report.non_manifold_edges, 0u);
