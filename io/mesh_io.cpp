@@ -98,12 +98,6 @@ std::string too_many_vertices(std::uint64_t vertex_count) {
   return std::to_string(vertex_count) + " vertices exceed the range of 32-bit indices";
 }
 
-void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles) {
-  for (std::size_t i = 2; i < polygon.size(); ++i) {
-    triangles.insert(triangles.end(), {polygon[0], polygon[i - 1], polygon[i]});
-  }
-}
-
 std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, const ParallelTeam& team,
                                      std::size_t min_chunk_bytes) {
   const std::size_t size = bytes.size() - std::min(begin, bytes.size());
@@ -122,6 +116,27 @@ std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, 
   }
   bounds.push_back(bytes.size());
   return bounds;
+}
+
+TextChunks count_chunk_rows(const MeshFile& file, char comment, std::vector<std::size_t> bounds,
+                            std::size_t header_lines, const ParallelTeam& team) {
+  TextChunks chunks{std::move(bounds), {}, {}};
+  const std::size_t count = chunks.count();
+  chunks.lines_before.assign(count + 1, 0);
+  chunks.rows_before.assign(count + 1, 0);
+  team.for_each(count, 1, [&](std::size_t k) {
+    TextCursor cursor(file, comment, chunks.bounds[k], chunks.bounds[k + 1], 0);
+    std::uint64_t rows = 0;
+    while (cursor.next_data_line()) ++rows;
+    chunks.lines_before[k + 1] = cursor.line_number();
+    chunks.rows_before[k + 1] = rows;
+  });
+  chunks.lines_before[0] = header_lines;
+  for (std::size_t k = 0; k < count; ++k) {
+    chunks.lines_before[k + 1] += chunks.lines_before[k];
+    chunks.rows_before[k + 1] += chunks.rows_before[k];
+  }
+  return chunks;
 }
 
 bool TextCursor::next_line() {
@@ -179,17 +194,21 @@ std::string_view TextCursor::next_token_any_line() {
   }
 }
 
-double TextCursor::read_double(std::string_view what) {
+std::string_view TextCursor::read_token(std::string_view what) {
   const std::string_view token = next_token();
   if (token.empty()) fail(std::string("missing ") + std::string(what));
+  return token;
+}
+
+double TextCursor::read_double(std::string_view what) {
+  const std::string_view token = read_token(what);
   double value = 0;
   if (!parse_double(token, value)) fail("malformed number " + quoted(token) + " for " + std::string(what));
   return value;
 }
 
 std::int64_t TextCursor::read_integer(std::string_view what) {
-  const std::string_view token = next_token();
-  if (token.empty()) fail(std::string("missing ") + std::string(what));
+  const std::string_view token = read_token(what);
   std::int64_t value = 0;
   if (!parse_integer(token, value)) fail("malformed integer " + quoted(token) + " for " + std::string(what));
   return value;

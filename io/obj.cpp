@@ -8,7 +8,6 @@
 // first error are those of a reading from start to end.
 #include <array>
 #include <cstdint>
-#include <exception>
 #include <limits>
 #include <string>
 
@@ -48,7 +47,7 @@ ChunkCounts count_chunk(const MeshFile& file, std::size_t begin, std::size_t end
     } else if (statement == "f") {
       std::size_t corners = 0;
       while (!cursor.next_token().empty()) ++corners;
-      if (corners >= 3) counts.triangles += corners - 2;  // fewer is an error, raised by the parsing pass
+      counts.triangles += fan_triangle_count(corners);  // fewer than 3 is an error, raised by the parsing pass
     }
   }
   counts.lines = cursor.line_number();
@@ -58,8 +57,7 @@ ChunkCounts count_chunk(const MeshFile& file, std::size_t begin, std::size_t end
 void parse_chunk(const MeshFile& file, std::size_t begin, std::size_t end, const ChunkCounts& before,
                  MeshSoup& soup) {
   TextCursor cursor(file, '#', begin, end, before.lines);
-  double* position = soup.positions.data() + 3 * before.vertices;
-  std::uint32_t* triangle = soup.triangles.data() + 3 * before.triangles;
+  SoupWriter sink{soup.positions.data() + 3 * before.vertices, soup.triangles.data() + 3 * before.triangles};
   std::size_t vertex_count = before.vertices;
   std::vector<std::uint32_t> polygon;
   while (cursor.next_line()) {
@@ -67,7 +65,7 @@ void parse_chunk(const MeshFile& file, std::size_t begin, std::size_t end, const
     if (statement == "v") {
       const std::array<double, 3> p = cursor.read_position();
       if (vertex_count + 1 > std::numeric_limits<std::uint32_t>::max()) cursor.fail(too_many_vertices(vertex_count + 1));
-      position = std::copy(p.begin(), p.end(), position);
+      sink.position(p);
       ++vertex_count;
     } else if (statement == "f") {
       polygon.clear();
@@ -75,11 +73,7 @@ void parse_chunk(const MeshFile& file, std::size_t begin, std::size_t end, const
         polygon.push_back(corner_index(cursor, token, vertex_count));
       }
       if (polygon.size() < 3) cursor.fail(too_few_corners(polygon.size()));
-      for (std::size_t i = 2; i < polygon.size(); ++i) {  // fanned as append_fan does
-        *triangle++ = polygon[0];
-        *triangle++ = polygon[i - 1];
-        *triangle++ = polygon[i];
-      }
+      emit_fan(polygon, sink);
     }
   }
 }
@@ -100,18 +94,8 @@ MeshSoup read_obj(const MeshFile& file, const ParallelTeam& team, std::size_t mi
   MeshSoup soup;
   soup.positions.resize(3 * before[chunks].vertices);
   soup.triangles.resize(3 * before[chunks].triangles);
-  // Pass 2: every chunk parsed into its place. Each keeps its own first error; the earliest chunk's is the
-  // file's first.
-  std::vector<std::exception_ptr> failure(chunks);
-  team.for_each(chunks, 1, [&](std::size_t k) {
-    try {
-      parse_chunk(file, bounds[k], bounds[k + 1], before[k], soup);
-    } catch (const Error&) {
-      failure[k] = std::current_exception();
-    }
-  });
-  for (const std::exception_ptr& f : failure)
-    if (f) std::rethrow_exception(f);
+  // Pass 2: every chunk parsed into its place; the earliest chunk's error is the file's first.
+  for_each_chunk(team, chunks, [&](std::size_t k) { parse_chunk(file, bounds[k], bounds[k + 1], before[k], soup); });
   return soup;
 }
 

@@ -1,15 +1,19 @@
 // Shared pieces of the mesh file readers: the file in memory, error messages that name the file and line,
-// locale-independent number parsing, a line/token cursor for the text formats, and fan triangulation.
+// locale-independent number parsing, fan triangulation, the sinks that items are parsed into, a line/token
+// cursor for the text formats, and the chunks a body is cut into for the team.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "exactgeo/error.hpp"
 #include "exactgeo/mesh.hpp"
 #include "parallel.hpp"
 
@@ -43,8 +47,46 @@ std::string too_few_corners(std::size_t corners);  // a polygon with fewer than 
 std::string index_out_of_range(std::int64_t index, std::uint64_t vertex_count);
 std::string too_many_vertices(std::uint64_t vertex_count);  // more than 32-bit indices address
 
-// Append the triangles (c0 c1 c2), (c0 c2 c3), ... of a polygon whose indices are already checked.
-void append_fan(std::span<const std::uint32_t> polygon, std::vector<std::uint32_t>& triangles);
+// Where a reader puts what its items make. Read from start to end, they are appended to the soup...
+struct SoupAppender {
+  MeshSoup& soup;
+  void position(const std::array<double, 3>& p) { soup.positions.insert(soup.positions.end(), p.begin(), p.end()); }
+  void triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    soup.triangles.insert(soup.triangles.end(), {a, b, c});
+  }
+};
+// ...read in chunks, each chunk writes them in place, from slots counted by an earlier pass...
+struct SoupWriter {
+  double* next_position = nullptr;
+  std::uint32_t* next_triangle = nullptr;
+  void position(const std::array<double, 3>& p) { next_position = std::copy(p.begin(), p.end(), next_position); }
+  void triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    next_triangle[0] = a;
+    next_triangle[1] = b;
+    next_triangle[2] = c;
+    next_triangle += 3;
+  }
+};
+// ...and that counting pass only counts the triangles.
+struct TriangleCounter {
+  std::uint64_t triangles = 0;
+  void position(const std::array<double, 3>&) {}
+  void triangle(std::uint32_t, std::uint32_t, std::uint32_t) { ++triangles; }
+};
+
+// A polygon whose indices are already checked, as the triangles (c0 c1 c2), (c0 c2 c3), ...
+template <class Sink>
+void emit_fan(std::span<const std::uint32_t> polygon, Sink& sink) {
+  for (std::size_t i = 2; i < polygon.size(); ++i) sink.triangle(polygon[0], polygon[i - 1], polygon[i]);
+}
+// How many triangles emit_fan makes of a polygon with `corners` corners (none of one with too few, an error).
+inline std::uint64_t fan_triangle_count(std::uint64_t corners) { return corners >= 3 ? corners - 2 : 0; }
+
+// How an item is read: parsed, every value converted and checked (a malformed one is named), or skimmed, only
+// what fixes the item's extent and the triangles it makes converted (a list's length). A skimming pass finds
+// where each chunk's triangles start before the chunks are parsed; any error a skim meets, the parse meets
+// too, at that item or before.
+enum class Reading : std::uint8_t { parse, skim };
 
 // Editors on Windows start UTF-8 text with a byte-order mark; it is not part of the first line.
 inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
@@ -81,6 +123,8 @@ class TextCursor {
   // The next token, moving to later lines as needed; an empty view at the end of the file.
   std::string_view next_token_any_line();
 
+  // The next token on the current line; throws naming `what` if it is missing.
+  std::string_view read_token(std::string_view what);
   // The next token on the current line as a number; throws naming `what` if it is missing or malformed.
   double read_double(std::string_view what);
   std::int64_t read_integer(std::string_view what);
@@ -114,6 +158,45 @@ std::vector<std::size_t> line_chunks(std::string_view bytes, std::size_t begin, 
 // Chunks below this are not worth a thread; the tests use smaller ones, so that small files run through the
 // chunked code too.
 inline constexpr std::size_t kMinChunkBytes = std::size_t{1} << 20;
+
+// A text body's chunks (bounds from line_chunks) and where each starts among the file's lines and among the
+// body's rows, the lines with a token (blank lines and comment lines are not rows). Entry k of lines_before
+// and rows_before is chunk k's; the last entry holds the file's lines and the body's rows.
+struct TextChunks {
+  std::vector<std::size_t> bounds;
+  std::vector<std::size_t> lines_before;
+  std::vector<std::uint64_t> rows_before;
+
+  std::size_t count() const { return bounds.size() - 1; }
+  // Chunk k's lines alone, numbered as in the whole file.
+  TextCursor cursor(const MeshFile& file, char comment, std::size_t k) const {
+    return TextCursor(file, comment, bounds[k], bounds[k + 1], lines_before[k]);
+  }
+  // A cursor past the last line, where a reading from start to end that wants another row finds none.
+  TextCursor end_cursor(const MeshFile& file, char comment) const {
+    return TextCursor(file, comment, bounds.back(), bounds.back(), lines_before.back());
+  }
+};
+// Counts each chunk's lines and rows on the team; `header_lines` come before the first chunk.
+TextChunks count_chunk_rows(const MeshFile& file, char comment, std::vector<std::size_t> bounds,
+                            std::size_t header_lines, const ParallelTeam& team);
+
+// Calls body(k) for each chunk k in [0, count) on the team. A chunk stops at its first Error, which is kept;
+// once all are done, the earliest chunk's is rethrown: with chunks in file order, the error that a reading
+// from start to end meets first.
+template <class Body>
+void for_each_chunk(const ParallelTeam& team, std::size_t count, Body&& body) {
+  std::vector<std::exception_ptr> failure(count);
+  team.for_each(count, 1, [&](std::size_t k) {
+    try {
+      body(k);
+    } catch (const Error&) {
+      failure[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& f : failure)
+    if (f) std::rethrow_exception(f);
+}
 
 // One function per format; each returns the soup with every index checked against its vertex count and
 // every coordinate finite. Emptiness is checked by the caller. Each gives the same soup and the same first

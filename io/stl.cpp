@@ -125,7 +125,8 @@ MeshSoup read_ascii_stl(const MeshFile& file) {
     } else if (token == "endfacet") {
       if (!in_facet) cursor.fail("'endfacet' without 'facet'");
       if (polygon.size() < 3) cursor.fail(too_few_corners(polygon.size()));
-      append_fan(polygon, soup.triangles);
+      SoupAppender sink{soup};
+      emit_fan(polygon, sink);
       in_facet = false;
     } else if (token == "outer") {
       if (cursor.next_token() != "loop") cursor.fail("expected 'loop' after 'outer'");
