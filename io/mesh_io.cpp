@@ -323,10 +323,10 @@ MeshSoup read_mesh_soup(const std::filesystem::path& path, const ReadOptions& op
     const std::string found = extension.empty() ? "no extension" : "unsupported extension '" + extension + "'";
     throw Error(ErrorCode::invalid_mesh, path.string() + ": " + found + " (expected .obj, .ply, .off or .stl)");
   }
-  // One thread per few chunks' worth of file at most: a small file is read and parsed on the calling thread.
+  // One thread per chunk of file at most: a file under two chunks is read and parsed on the calling thread.
   std::error_code size_error;
   const std::uintmax_t size = std::filesystem::file_size(path, size_error);
-  const std::uintmax_t worth = size_error ? 1 : std::max<std::uintmax_t>(1, size / (4 * detail::kMinChunkBytes));
+  const std::uintmax_t worth = size_error ? 1 : std::max<std::uintmax_t>(1, size / detail::kMinChunkBytes);
   detail::WorkerPool pool(static_cast<unsigned>(
       std::min<std::uintmax_t>({detail::threads_or_cores(options.threads), detail::threads_or_cores(0), worth})));
   const detail::ParallelTeam team{pool, options.stop};

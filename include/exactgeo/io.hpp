@@ -14,7 +14,7 @@ namespace exactgeo {
 
 struct ReadOptions {
   // Threads reading and parsing the file: 0 takes one per core. Never more than the cores, nor than one per
-  // 4 MB of file. The soup, and the first error in a malformed file, are the same on any thread count.
+  // megabyte of file. The soup, and the first error in a malformed file, are the same on any thread count.
   unsigned threads = 0;
   std::stop_token stop = {};  // a stop request ends the read with Error(cancelled)
 };
