@@ -72,7 +72,7 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
     const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads, rows));
     std::vector<std::unique_ptr<detail::WorkerThread>> pool;
     try {
-      for (unsigned t = 1; t < workers; ++t)
+      for (unsigned t = 1; t < workers && detail::room_for_threads(t); ++t)
         pool.push_back(std::make_unique<detail::WorkerThread>([&work, &solver = solvers[t]] { work(solver); }));
     } catch (const std::system_error&) {
       // The system would not start another thread (a process or address-space limit): the rows are shared

@@ -24,6 +24,9 @@
 #if defined(__unix__) || defined(__APPLE__)
 #include <pthread.h>
 #endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace exactgeo::detail {
 
@@ -74,6 +77,22 @@ class WorkerThread {
   std::thread thread_;
 #endif
 };
+
+// Whether the address space has room for `threads` more threads: each one's stack, and the arena of 64 MB
+// glibc's allocator reserves for a thread's allocations (lazily, once the thread runs: so the room for the
+// threads started just before is counted too). Under an address-space limit (ulimit -v, common on clusters)
+// threads started without that room do start, and then the run fails for want of memory, or glibc aborts
+// when a thread cannot get its thread-local data; stopping at the first thread without room leaves the room
+// to the run. Probed by reserving it (and giving it back at once): a reservation touches no memory.
+inline bool room_for_threads(std::size_t threads) {
+#if defined(__linux__)
+  const std::size_t room = threads * (std::size_t{96} << 20);
+  void* probe = mmap(nullptr, room, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (probe == MAP_FAILED) return false;
+  munmap(probe, room);
+#endif
+  return threads > 0;
+}
 
 // The thread count a setting asks for: 0 means one per core (one where the count of cores is unknown).
 inline unsigned threads_or_cores(unsigned threads) {
@@ -165,15 +184,17 @@ inline constexpr std::uint64_t kClosed = 0xffffffffu;
 
 // With more threads than cores, a spinning worker holds a core that the caller or another worker could use:
 // it sleeps at once.
-// A thread the system will not start (a limit on processes or on address space, common on clusters) leaves
-// the team with the threads that did start: every thread takes items from every share once its own is done,
-// so the shares of the missing threads are still worked off, by the others. threads() says how many there are.
+// A thread the system will not start, or would start without room to run (a limit on processes or on address
+// space, common on clusters; room_for_threads), leaves the team with the threads that did start: every
+// thread takes items from every share once its own is done, so the shares of the missing threads are still
+// worked off, by the others. threads() says how many there are.
 inline WorkerPool::WorkerPool(unsigned threads)
     : shares_(threads),
       spin_time_(threads > std::thread::hardware_concurrency() ? std::chrono::microseconds(0)
                                                                : worker_pool_detail::kSpinTime) {
   try {
-    for (unsigned t = 1; t < threads; ++t) workers_.push_back(std::make_unique<WorkerThread>([this, t] { work(t); }));
+    for (unsigned t = 1; t < threads && room_for_threads(t); ++t)
+      workers_.push_back(std::make_unique<WorkerThread>([this, t] { work(t); }));
   } catch (const std::system_error&) {
   }
 }
