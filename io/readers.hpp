@@ -123,6 +123,8 @@ class TextCursor {
   // The next token, moving to later lines as needed; an empty view at the end of the file.
   std::string_view next_token_any_line();
 
+  // How many tokens the rest of the current line holds, consuming them (next_token's rules, one pass).
+  std::size_t count_tokens();
   // The next token on the current line; throws naming `what` if it is missing.
   std::string_view read_token(std::string_view what);
   // The next token on the current line as a number; throws naming `what` if it is missing or malformed.
