@@ -107,14 +107,15 @@ void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
   s.corner_enters_forward.resize(corner_count);
   s.fan_total_angle.resize(s.vertex_count);
   s.fan_closed.resize(s.vertex_count);
+  // Corners a broken fan never reaches (around a degenerate face) keep these defaults. Filled in corner order:
+  // through each vertex's corners it would be a scattered write per corner.
+  team.for_each(corner_count, kGrain, [&](std::size_t c) {
+    s.fan_angle_start[c] = 0.0;
+    s.corner_enters_forward[c] = 1;
+  });
   team.for_each(s.vertex_count, kGrain, [&](std::size_t vertex) {
     const auto v = static_cast<std::uint32_t>(vertex);
     const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
-    // Corners a broken fan never reaches (around a degenerate face) keep the defaults.
-    for (std::uint32_t i = begin; i < end; ++i) {
-      s.fan_angle_start[s.vertex_corners[i]] = 0.0;
-      s.corner_enters_forward[s.vertex_corners[i]] = 1;
-    }
     // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.
     std::uint32_t start = s.vertex_corners[begin];
     bool forward = true;
