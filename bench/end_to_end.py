@@ -19,7 +19,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from meshes import kSubdivided, kSubdividedOptIn, select_meshes
+from meshes import kSubdivided, kSubdividedOptIn, select_meshes_or_exit
 from reports.end_to_end import write_markdown
 from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
@@ -95,13 +95,7 @@ def main(argv: list[str] | None = None) -> None:
         # An early build has no --threads: its engine runs on one thread, so it is compared on one thread.
         baseline_threads = not missing_cli_options(args.baseline_exactgeo, ["--threads"])
     runs = whole_runs(args.solvers, args.threads, args.exactgeo, args.baseline_exactgeo, baseline_threads)
-    if not args.mesh_dir.is_dir():
-        sys.exit(f"end_to_end.py: mesh directory {args.mesh_dir} not found (--mesh-dir)")
-    print(f"preparing meshes in {args.work_dir / 'meshes'}", flush=True)
-    try:
-        meshes = select_meshes(args.mesh_dir, args.work_dir, args.meshes, kSubdivided)
-    except ValueError as error:
-        sys.exit(f"end_to_end.py: {error}")
+    meshes = select_meshes_or_exit("end_to_end.py", args.mesh_dir, args.work_dir, args.meshes, kSubdivided)
     # Errors are against the current build on the fewest threads (the baseline's where only it ran).
     kinds = {run.name: configuration(run)["kind"] for run in runs}
     references = [name for name, kind in kinds.items() if kind == "exactgeo"]

@@ -8,6 +8,7 @@ part of `v/vt/vn` references, polygons fan-triangulated from their first corner.
 from __future__ import annotations
 
 import dataclasses
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -153,6 +154,19 @@ def select_meshes(mesh_dir: Path, work_dir: Path, names: list[str] | None,
     if unknown:
         raise ValueError(f"no mesh named {', '.join(sorted(unknown))} in {mesh_dir}")
     return [mesh for mesh in meshes if mesh.name in names]
+
+
+def select_meshes_or_exit(script: str, mesh_dir: Path, work_dir: Path, names: list[str] | None,
+                          subdivided: dict[str, tuple[str, int]]) -> list[BenchMesh]:
+    """select_meshes for an entry script: saying where the meshes are made, and exiting with a message naming
+    `script` if the mesh directory is missing or a name is unknown."""
+    if not mesh_dir.is_dir():
+        sys.exit(f"{script}: mesh directory {mesh_dir} not found (--mesh-dir)")
+    print(f"preparing meshes in {work_dir / 'meshes'}", flush=True)
+    try:
+        return select_meshes(mesh_dir, work_dir, names, subdivided)
+    except ValueError as error:
+        sys.exit(f"{script}: {error}")
 
 
 def _cached_arrays(name, obj_path, cache, inputs, generate) -> BenchMesh:

@@ -13,7 +13,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from meshes import kSubdivided, select_meshes
+from meshes import kSubdivided, select_meshes_or_exit
 from reports.files import write_json, write_json_and_markdown
 from reports.machine import report_header
 from reports.peers import write_markdown, write_plots
@@ -97,13 +97,7 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(f"run.py: {error}")
     if importlib.util.find_spec("matplotlib") is None:
         sys.exit("run.py: matplotlib is needed for the plots (pip install -r bench/requirements.txt)")
-    if not args.mesh_dir.is_dir():
-        sys.exit(f"run.py: mesh directory {args.mesh_dir} not found (--mesh-dir)")
-    print(f"preparing meshes in {args.work_dir / 'meshes'}", flush=True)
-    try:
-        meshes = select_meshes(args.mesh_dir, args.work_dir, args.meshes, kSubdivided)
-    except ValueError as error:
-        sys.exit(f"run.py: {error}")
+    meshes = select_meshes_or_exit("run.py", args.mesh_dir, args.work_dir, args.meshes, kSubdivided)
     settings = RunSettings(repeat=args.repeat, timeout=args.timeout, max_repeat_seconds=args.max_repeat_seconds,
                            memory_limit_gb=args.memory_limit_gb, sources=args.sources, seed=args.seed,
                            repeat_other=args.repeat_other, cgal_once_faces=args.cgal_once_faces,

@@ -23,10 +23,7 @@ double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 }  // namespace
 
 void choose_scale(const ParallelTeam& team, SurfaceMesh& s) {
-  const Box box = bounding_box(team, s.vertex_count, [&](std::size_t v) {
-    const double* p = s.input_positions.data() + 3 * std::size_t{s.surface_to_input[v]};
-    return Vec3{p[0], p[1], p[2]};
-  });
+  const Box box = bounding_box(team, s.vertex_count, [&](std::size_t v) { return s.input_position(s.surface_to_input[v]); });
   // Half of each side: hi - lo itself may overflow (coordinates of both signs near the largest double).
   double half_extent = 0;
   for (int k = 0; k < 3; ++k) half_extent = std::max(half_extent, 0.5 * box.hi[k] - 0.5 * box.lo[k]);

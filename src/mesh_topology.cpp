@@ -18,20 +18,6 @@ namespace {
 
 // Items per range of the passes below: a few microseconds of work each.
 constexpr std::size_t kGrain = 1 << 13;
-// Groups this small are searched pairwise; larger ones are sorted first.
-constexpr std::size_t kPairwiseGroup = 16;
-
-Vec3 input_position(const SurfaceMesh& s, std::uint32_t v) {
-  const double* p = s.input_positions.data() + 3 * std::size_t{v};
-  return {p[0], p[1], p[2]};
-}
-
-// The number of bits that index `count` groups of about one item each (at most 2^30 groups).
-int group_bits(std::size_t count) {
-  int bits = 0;
-  while (bits < 30 && (std::size_t{1} << bits) < count) ++bits;
-  return bits;
-}
 
 // Spreads the low 21 bits of x so that two zero bits follow each (bit i moves to bit 3i).
 std::uint64_t spread_bits(std::uint64_t x) {
@@ -91,7 +77,7 @@ using VertexSet = std::array<std::uint32_t, 3>;
 void find_duplicate_positions(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   const std::size_t vertex_count = s.input_positions.size() / 3;
   state.same_position = first_at_same_position(
-      team, vertex_count, [&](std::size_t v) { return input_position(s, static_cast<std::uint32_t>(v)); });
+      team, vertex_count, [&](std::size_t v) { return s.input_position(static_cast<std::uint32_t>(v)); });
   s.report.duplicate_positions =
       team.count_if(vertex_count, kGrain, [&](std::size_t v) { return state.same_position[v] != v; });
 }
@@ -116,11 +102,11 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
                                           [&](std::size_t f) { return vertex_set(f)[0]; });
     team.for_ranges(vertex_count, kGrain, [&](std::size_t first, std::size_t last) {
       std::vector<std::pair<VertexSet, std::uint32_t>> sorted;
-      std::array<VertexSet, kPairwiseGroup> sets;
+      std::array<VertexSet, kPairwiseGroupSize> sets;
       for (std::size_t g = first; g < last; ++g) {
         const std::uint32_t* faces = by_lowest.begin(g);
         const std::size_t n = by_lowest.size(g);
-        if (n <= kPairwiseGroup) {
+        if (n <= kPairwiseGroupSize) {
           for (std::size_t j = 0; j < n; ++j) {
             const VertexSet& v = sets[j] = vertex_set(faces[j]);
             first_face[faces[j]] = v[0] == v[1] || v[1] == v[2] ? kNone : faces[j];
@@ -315,7 +301,7 @@ void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state
   });
   used = {};
   MeshArray<std::uint32_t> order = spatial_order(
-      team, used_count, [&](std::size_t i) { return input_position(s, used_vertices[i]); },
+      team, used_count, [&](std::size_t i) { return s.input_position(used_vertices[i]); },
       [&](std::size_t i) { return corners_of.begin(used_vertices[i])[0]; });
   team.for_each(used_count, kGrain, [&](std::size_t rank) { order[rank] = used_vertices[order[rank]]; });
   used_vertices = {};

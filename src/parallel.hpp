@@ -119,6 +119,17 @@ std::uint64_t exclusive_prefix_sum(const ParallelTeam& team, Array& values) {
   return range_total.back();
 }
 
+// The number of bits that index about `count` groups, one item each on average (at most 2^30 groups): the
+// groups of a hash or of a sort key's high bits.
+inline int group_bits(std::size_t count) {
+  int bits = 0;
+  while (bits < 30 && (std::size_t{1} << bits) < count) ++bits;
+  return bits;
+}
+
+// Groups this small are searched pairwise; larger ones are sorted first, so that no input is quadratic.
+inline constexpr std::size_t kPairwiseGroupSize = 16;
+
 // Items grouped by key, in compressed form: group k holds items[offsets[k] .. offsets[k + 1]), in increasing
 // item order (a stable counting sort).
 struct Groups {

@@ -41,10 +41,8 @@ inline bool position_less(const Point& a, const Point& b) {
 template <class PositionOf>
 MeshArray<std::uint32_t> first_at_same_position(const ParallelTeam& team, std::size_t count, PositionOf&& position_of) {
   using namespace same_position_detail;
-  constexpr std::size_t kPairwise = 16;
   MeshArray<std::uint32_t> first(count);
-  int bits = 0;
-  while (bits < 30 && (std::size_t{1} << bits) < count) ++bits;
+  const int bits = group_bits(count);
   const Groups groups = group_by_key(team, count, std::size_t{1} << bits, [&](std::size_t i) {
     return bits == 0 ? 0 : position_hash(position_of(i)) >> (64 - bits);
   });
@@ -53,7 +51,7 @@ MeshArray<std::uint32_t> first_at_same_position(const ParallelTeam& team, std::s
     for (std::size_t g = begin_group; g < end_group; ++g) {
       const std::uint32_t* items = groups.begin(g);
       const std::size_t n = groups.size(g);
-      if (n <= kPairwise) {
+      if (n <= kPairwiseGroupSize) {
         // In increasing order: the first equal position met is the first point at it.
         for (std::size_t j = 0; j < n; ++j) {
           first[items[j]] = items[j];

@@ -66,6 +66,11 @@ struct SurfaceMesh {
   // 1, see kOrdinaryScaleExponent), so that squared lengths neither overflow nor underflow at any scale. All
   // geometry below (lengths, frames, length_scale) is in that frame; distances are scaled back on output.
   int scale_exponent = 0;
+  // An input vertex's position as given, and in the engine's frame.
+  std::array<double, 3> input_position(std::uint32_t input_vertex) const {
+    const double* p = input_positions.data() + 3 * std::size_t{input_vertex};
+    return {p[0], p[1], p[2]};
+  }
   std::array<double, 3> position(std::uint32_t input_vertex) const {
     const double* p = input_positions.data() + 3 * std::size_t{input_vertex};
     if (scale_exponent == 0) return {p[0], p[1], p[2]};  // the ordinary scale: ldexp is a call per coordinate

@@ -184,6 +184,7 @@ inline constexpr std::uint64_t kClosed = 0xffffffffu;
 
 // With more threads than cores, a spinning worker holds a core that the caller or another worker could use:
 // it sleeps at once.
+//
 // A thread the system will not start, or would start without room to run (a limit on processes or on address
 // space, common on clusters; room_for_threads), leaves the team with the threads that did start: every
 // thread takes items from every share once its own is done, so the shares of the missing threads are still
