@@ -7,7 +7,7 @@ def mesh_record(name, baseline, one, two):
     def result(seconds, propagations, rss):
         return {"propagation_seconds": seconds, "propagation_seconds_min": seconds, "peak_rss_bytes": rss,
                 "window_propagations": propagations, "vertex_pops": 1000, "parallel_bands": 10,
-                "parallel_critical_path": 50, "parallel_crossings": 5000}
+                "parallel_critical_path": 50, "list_crossings": 5000}
 
     return {
         "name": name, "faces": 2000, "vertices": 1000,

@@ -72,7 +72,7 @@ def measure_configurations(configurations: dict[str, tuple[str, list[str]]], mes
             "vertex_pops": last["vertex_pops"],
             "parallel_bands": last.get("parallel_bands", 0),
             "parallel_critical_path": last.get("parallel_critical_path", 0),
-            "parallel_crossings": last.get("parallel_crossings", 0),
+            "list_crossings": last.get("list_crossings", 0),
         }
     return results
 

@@ -263,8 +263,9 @@ Command add_distance_command(CLI::App& app) {
                     "Ablation: split every window at the opposite vertex instead of pruning with Rule 1");
   command->add_flag("--no-rule23", a.no_rule23, "Ablation: no pairwise pruning of neighbouring windows (Rules 2 and 3)");
   command->add_flag("--timers", a.timers,
-                    "Split the propagation time into window propagation, pruning and queue (in --stats; the clock "
-                    "reads slow the run down by up to 60%)");
+                    "Split the propagation time into window propagation, pruning and queue and, with several threads, "
+                    "the threads' time into busy, starting, starved and waiting for locks; --stats also gets a "
+                    "timeline of the bands (the clock reads slow the run down by up to 60%)");
   add_threads_option(*command, a.threads);
   command->add_flag("--quiet", a.quiet, "No progress line on stderr");
   a.mesh.checks.push_back([&a] {

@@ -19,6 +19,21 @@ inline nlohmann::ordered_json stats_json(const exactgeo::GeodesicStats& stats, b
     json[name] = kind == exactgeo::StatsFieldKind::phase_seconds && !timed ? nlohmann::ordered_json()
                                                                           : nlohmann::ordered_json(stats.*member);
   });
+  if (!stats.band_timeline.empty()) {  // as columns: one array per field, one entry per band
+    nlohmann::ordered_json bands = nlohmann::ordered_json::object();
+    auto column = [&](const char* name, auto member) {
+      nlohmann::ordered_json values = nlohmann::ordered_json::array();
+      for (const exactgeo::GeodesicStats::Band& band : stats.band_timeline) values.push_back(band.*member);
+      bands[name] = std::move(values);
+    };
+    using Band = exactgeo::GeodesicStats::Band;
+    column("vertices", &Band::vertices);
+    column("crossings", &Band::crossings);
+    column("depth", &Band::depth);
+    column("seconds", &Band::seconds);
+    column("busy_seconds", &Band::busy_seconds);
+    json["band_timeline"] = std::move(bands);
+  }
   return json;
 }
 

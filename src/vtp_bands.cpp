@@ -26,6 +26,7 @@
 // joined it has run out, since only a thread with a list to cross makes new ones.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <mutex>
 
 #include "assert.hpp"
@@ -38,8 +39,13 @@ namespace {
 
 // Width of a band in mean edge lengths. Narrower bands mean more of them, each ending with the threads
 // waiting for the last list; wider ones cross lists before the nearer windows that would prune them have
-// arrived. Half an edge measured best on the scans (docs/performance.md).
-constexpr double kBandEdges = 0.5;
+// arrived (one edge: 3% more window propagations and 10% more list crossings than half an edge on
+// nefertiti). With few threads the waits are short and half an edge measured best on the scans
+// (docs/performance.md); from four threads on a band of half an edge gives each thread only a few dozen
+// crossings, and one edge measured 9% faster on nefertiti at 4 threads and 16-22% faster on nefertiti and its
+// 400K-face subdivision at 16 threads (two edges: slower again on both).
+constexpr double kBandEdgesFewThreads = 0.5, kBandEdgesManyThreads = 1.0;
+constexpr unsigned kManyThreads = 4;
 
 // band_state_: one joined thread, one hungry thread, and the band being over.
 constexpr std::uint64_t kJoined = std::uint64_t{1} << 32, kHungry = 1, kBandOver = std::uint64_t{1} << 63;
@@ -58,12 +64,14 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked of the
   // team, which asked hardware_concurrency once: it reads a file.)
   hungry_spins_ = pool_->oversubscribed() ? 0 : 1024;
-  band_width_ = kBandEdges * mesh_.mean_edge_length;
+  band_width_ = (threads < kManyThreads ? kBandEdgesFewThreads : kBandEdgesManyThreads) * mesh_.mean_edge_length;
   if (!(band_width_ > 0)) band_width_ = 1;  // every edge of length 0: every distance is 0
 
   for (ThreadScratch& s : scratch_) s.queued_by_band.resize(kBandSlots);
   band_of_.assign(mesh_.vertex_count, 0);  // band 0 is never under way: sources at distance 0 fall in band 1
   band_index_ = 0;
+  timeline_crossings_ = 0;
+  timeline_busy_seconds_ = 0;
 
   while (true) {
     update_cutoff();
@@ -87,7 +95,14 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
     stats_.prime_merges += s.stats.prime_merges;
     stats_.secondary_merges += s.stats.secondary_merges;
     stats_.pseudo_source_emissions += s.stats.pseudo_source_emissions;
-    stats_.parallel_crossings += s.stats.parallel_crossings;
+    stats_.list_crossings += s.stats.list_crossings;
+    stats_.parallel_lock_waits += s.stats.parallel_lock_waits;
+    stats_.parallel_busy_seconds += s.stats.parallel_busy_seconds;
+    stats_.parallel_busiest_thread_seconds =
+        std::max(stats_.parallel_busiest_thread_seconds, s.stats.parallel_busy_seconds);
+    stats_.parallel_start_seconds += s.stats.parallel_start_seconds;
+    stats_.parallel_starved_seconds += s.stats.parallel_starved_seconds;
+    stats_.parallel_lock_wait_seconds += s.stats.parallel_lock_wait_seconds;
   }
 }
 
@@ -150,18 +165,31 @@ void VtpEngine::propagate_band() {
     std::nth_element(band_.begin() + static_cast<std::ptrdiff_t>(band_.size() * (t - 1) / threads),
                      band_.begin() + static_cast<std::ptrdiff_t>(band_.size() * t / threads), band_.end());
   band_state_.store(0, std::memory_order_relaxed);
-  {
-    const PhaseTimer parallel(options_.collect_timings, stats_.parallel_seconds);
-    pool_->run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
-  }
+  const bool timed = options_.collect_timings;
+  if (timed) band_start_ = std::chrono::steady_clock::now();
+  pool_->run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
+  const double seconds =
+      timed ? std::chrono::duration<double>(std::chrono::steady_clock::now() - band_start_).count() : 0.0;
+  stats_.parallel_seconds += seconds;
   std::uint16_t deepest = 0;
+  std::uint64_t crossings = 0;
+  double busy_seconds = 0;
   for (ThreadScratch& s : scratch_) {
     targets_changed_ = targets_changed_ || s.targets_changed;
     s.targets_changed = false;
     deepest = std::max(deepest, s.deepest);
     s.deepest = 0;
+    crossings += s.stats.list_crossings;
+    busy_seconds += s.stats.parallel_busy_seconds;
   }
   stats_.parallel_critical_path += deepest;
+  if (timed) {  // the threads' counts so far, less those of the bands before
+    stats_.band_timeline.push_back({static_cast<std::uint32_t>(band_.size()),
+                                    static_cast<std::uint32_t>(crossings - timeline_crossings_), deepest, seconds,
+                                    busy_seconds - timeline_busy_seconds_});
+    timeline_crossings_ = crossings;
+    timeline_busy_seconds_ = busy_seconds;
+  }
   lists_.note_peak();
 }
 
@@ -178,6 +206,24 @@ void VtpEngine::propagate_band_on(unsigned thread) {
       scratch.to_emit.pop_back();
       emit_concurrently(v, thread);
     }
+  };
+  // With collect_timings, `mark` is when the thread last started working or waiting.
+  const bool timed = options_.collect_timings;
+  auto mark = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
+  auto time_since_mark = [&](double& bucket) {
+    const auto now = std::chrono::steady_clock::now();
+    bucket += std::chrono::duration<double>(now - mark).count();
+    mark = now;
+  };
+  LockWaits& lock_waits_here = lock_waits;
+  const LockWaits lock_waits_before = lock_waits_here;
+  lock_waits_here.timed = timed;
+  if (timed) scratch.stats.parallel_start_seconds += std::chrono::duration<double>(mark - band_start_).count();
+  auto leave = [&] {  // the thread's part of the band is over
+    if (timed && mark != std::chrono::steady_clock::time_point::max())
+      time_since_mark(scratch.stats.parallel_busy_seconds);
+    scratch.stats.parallel_lock_waits += lock_waits_here.count - lock_waits_before.count;
+    scratch.stats.parallel_lock_wait_seconds += lock_waits_here.seconds - lock_waits_before.seconds;
   };
   try {
     scratch.depth = 0;
@@ -206,16 +252,23 @@ void VtpEngine::propagate_band_on(unsigned thread) {
       // Counted before it says so: a thread that sees it hungry finds it counted.
       band_state_.fetch_add(kHungry, std::memory_order_acq_rel);
       queue.hungry.store(true, std::memory_order_release);
+      if (timed) time_since_mark(scratch.stats.parallel_busy_seconds);
       wait_until([&] { return band_over_or_fed(queue); }, hungry_spins_);
-      if (!queue.fed.load(std::memory_order_acquire)) return;
+      if (!queue.fed.load(std::memory_order_acquire)) {
+        mark = std::chrono::steady_clock::time_point::max();  // waits at the band's end are what is left
+        break;
+      }
+      if (timed) time_since_mark(scratch.stats.parallel_starved_seconds);
       const SpinGuard guard(queue.inbox_lock);
       queue.items.swap(queue.inbox);
       queue.fed.store(false, std::memory_order_relaxed);
     }
   } catch (...) {
     aborted_ = true;  // the others stop too: the lists they wait for will not come
+    leave();
     throw;
   }
+  leave();
 }
 
 // Counts this thread in, unless the band is over.
@@ -291,7 +344,7 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   }
   if (taken.size == 0) return;
   prefetch_destinations(h);
-  ++scratch.stats.parallel_crossings;
+  ++scratch.stats.list_crossings;
   scratch.deepest = std::max(scratch.deepest, scratch.depth);
   std::span<Window> incoming(taken.data, taken.size);
   if (worth_pruning(taken)) {

@@ -530,6 +530,7 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
 // run_vertex_sorted, for the face-sorted variants' sake.
 [[gnu::flatten]] void VtpEngine::cross(std::uint32_t h) {
   if (lists_.empty(h)) return;
+  ++stats_.list_crossings;
   prefetch_destinations(h);
   // Read in place: nothing below changes the lists until this one is cleared.
   const std::span<const Window> incoming = list_to_cross(h, 0, stats_);

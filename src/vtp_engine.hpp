@@ -16,6 +16,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -199,7 +200,7 @@ class VtpEngine {
   // told apart by band_of_. A vertex whose band is under way, or behind, goes into the next band; one more
   // than kBandSlots - 1 bands ahead goes into the last slot, and moves on from there when its turn comes.
   static constexpr std::uint64_t kBandSlots = 1024;
-  double band_width_ = 0;  // engine lengths: the wavefront advances by about half an edge per band
+  double band_width_ = 0;  // engine lengths: the wavefront advances by half an edge or one per band
   std::uint64_t band_index_ = 0;         // of the band under way
   std::vector<std::uint64_t> band_of_;   // per vertex: the band it was last filed in
   std::unique_ptr<WorkerPool> pool_;
@@ -214,6 +215,11 @@ class VtpEngine {
   // kBandOver once every one that joined is hungry. A thread the system runs late finds the band over.
   std::atomic<std::uint64_t> band_state_{0};
   std::atomic<bool> aborted_{false};    // a thread threw: the others stop
+  // With collect_timings: when the band under way started, and the threads' crossings and busy time at the
+  // end of the last band (GeodesicStats::band_timeline).
+  std::chrono::steady_clock::time_point band_start_{};
+  std::uint64_t timeline_crossings_ = 0;
+  double timeline_busy_seconds_ = 0;
   int hungry_spins_ = 0;                // how long a hungry thread spins before it yields the core
   std::mutex targets_mutex_;
   bool gather_band();

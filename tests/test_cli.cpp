@@ -295,6 +295,27 @@ TEST_F(Cli, AlgorithmVariantsAndAblationsGiveTheSameDistancesAndSayWhatRan) {
   EXPECT_TRUE(nlohmann::json::parse(read_file(path("t.json")))["pruning_seconds"].is_null());
 }
 
+// With several threads, --timers adds where the threads' time went and a timeline of the bands, as columns
+// of one entry per band that add up to the run's counts.
+TEST_F(Cli, TimersWithThreadsWriteTheBandTimeline) {
+  ASSERT_EQ(run("distance @torus --source 3 --threads 3 --timers --quiet --stats " + arg("s.json")).exit_code, 0);
+  const nlohmann::json stats = nlohmann::json::parse(read_file(path("s.json")));
+  const nlohmann::json& bands = stats["band_timeline"];
+  ASSERT_TRUE(bands.is_object()) << stats.dump();
+  const std::size_t count = stats["parallel_bands"].get<std::size_t>();
+  for (const char* column : {"vertices", "crossings", "depth", "seconds", "busy_seconds"})
+    EXPECT_EQ(bands[column].size(), count) << column;
+  std::uint64_t crossings = 0;
+  for (const nlohmann::json& c : bands["crossings"]) crossings += c.get<std::uint64_t>();
+  EXPECT_EQ(crossings, stats["list_crossings"].get<std::uint64_t>());
+  EXPECT_GT(stats["parallel_busy_seconds"].get<double>(), 0.0);
+
+  ASSERT_EQ(run("distance @torus --source 3 --threads 3 --quiet --stats " + arg("t.json")).exit_code, 0);
+  const nlohmann::json untimed = nlohmann::json::parse(read_file(path("t.json")));
+  EXPECT_FALSE(untimed.contains("band_timeline"));
+  EXPECT_TRUE(untimed["parallel_busy_seconds"].is_null());
+}
+
 TEST_F(Cli, UnknownAlgorithmIsAUsageError) {
   expect_error(run("distance @torus --source 0 --algorithm mmp"), 1, "mmp");
 }

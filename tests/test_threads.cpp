@@ -1,5 +1,5 @@
 // One run on several threads (GeodesicOptions::threads): on generated meshes of many shapes, every feature
-// gives, with 2, 3 and 8 threads, the answer of the sequential engine (one thread) to 1e-14 of the largest
+// gives, with 2, 3, 8 and 16 threads, the answer of the sequential engine (one thread) to 1e-14 of the largest
 // distance, with the same vertices reachable and the same nearest sources. (Which thread crosses what, and
 // when, may change the last bits between runs.) The oracle tests check the threaded runs against CGAL on
 // the shared meshes.
@@ -24,7 +24,7 @@ using exactgeo::GeodesicOptions;
 using exactgeo::GeodesicResult;
 using exactgeo::Mesh;
 
-constexpr unsigned kThreadCounts[] = {2, 3, 8};
+constexpr unsigned kThreadCounts[] = {2, 3, 8, 16};
 constexpr double kAgreement = 1e-14;
 
 // A fine grid with a needle on one boundary edge: a triangle thousands of cells long, like a scan's junk. The
@@ -173,6 +173,50 @@ TEST(Threads, ProgressIsReportedAndAStopEndsTheRun) {
   // The solver, and its threads, stay usable.
   EXPECT_TRUE(exactgeo_test::distances_match(solver.solve(std::span(&source, 1), {}, {.threads = 2}).distances,
                                              exactgeo::geodesic_distance(mesh, 0).distances, kAgreement));
+}
+
+// The instruments of a threaded run (GeodesicStats' parallel_* fields and band_timeline) add up: the bands'
+// records to the run's counts and times, each thread's time in a band to no more than the band's.
+TEST(Threads, TheInstrumentsOfTheBandsAddUp) {
+  const Mesh mesh(exactgeo::make_bumpy_torus(96, 48));
+  const exactgeo::GeodesicStats one = exactgeo::geodesic_distance(mesh, 0, {.collect_timings = true}).stats;
+  EXPECT_GT(one.list_crossings, 0u);
+  EXPECT_TRUE(one.band_timeline.empty());
+  EXPECT_EQ(one.parallel_busy_seconds, 0.0);
+  for (unsigned threads : kThreadCounts) {
+    const std::string where = std::to_string(threads) + " threads";
+    const exactgeo::GeodesicStats timed =
+        exactgeo::geodesic_distance(mesh, 0, {.collect_timings = true, .threads = threads}).stats;
+    ASSERT_EQ(timed.band_timeline.size(), timed.parallel_bands) << where;
+    std::uint64_t vertices = 0, crossings = 0, depth = 0;
+    double seconds = 0, busy = 0;
+    for (const exactgeo::GeodesicStats::Band& band : timed.band_timeline) {
+      vertices += band.vertices;
+      crossings += band.crossings;
+      depth += band.depth;
+      seconds += band.seconds;
+      busy += band.busy_seconds;
+      EXPECT_LE(band.busy_seconds, threads * band.seconds * (1 + 1e-9)) << where;
+    }
+    EXPECT_EQ(vertices, timed.vertex_pops) << where;
+    EXPECT_EQ(crossings, timed.list_crossings) << where;
+    EXPECT_EQ(depth, timed.parallel_critical_path) << where;
+    EXPECT_NEAR(seconds, timed.parallel_seconds, 1e-9) << where;
+    EXPECT_NEAR(busy, timed.parallel_busy_seconds, 1e-9) << where;
+    EXPECT_GT(timed.parallel_busy_seconds, 0.0) << where;
+    EXPECT_LE(timed.parallel_busiest_thread_seconds, timed.parallel_seconds * (1 + 1e-9)) << where;
+    EXPECT_LE(timed.parallel_busy_seconds, threads * timed.parallel_busiest_thread_seconds * (1 + 1e-9)) << where;
+    EXPECT_LE(timed.parallel_busy_seconds + timed.parallel_start_seconds + timed.parallel_starved_seconds,
+              threads * timed.parallel_seconds * (1 + 1e-9)) << where;
+    EXPECT_LE(timed.parallel_lock_wait_seconds, timed.parallel_busy_seconds) << where;
+    // Re-crossed lists: more crossings than one thread's, never fewer than the lists one thread crosses once.
+    EXPECT_GE(timed.list_crossings, one.list_crossings / 2) << where;
+    // Untimed, the counts stay and the timeline is not kept.
+    const exactgeo::GeodesicStats untimed = exactgeo::geodesic_distance(mesh, 0, {.threads = threads}).stats;
+    EXPECT_TRUE(untimed.band_timeline.empty()) << where;
+    EXPECT_GT(untimed.list_crossings, 0u) << where;
+    EXPECT_EQ(untimed.parallel_busy_seconds, 0.0) << where;
+  }
 }
 
 TEST(Threads, DistanceMatricesSpreadSourcesAndRunEachOnOneThread) {

@@ -28,7 +28,7 @@ def prediction(mesh: dict) -> dict[int, float]:
     counts = mesh["results"]["2-threads"]
     alone = two["propagation_seconds"] - two["parallel_seconds"]
     shared = 2 * two["parallel_seconds"]
-    chain = shared * counts["parallel_critical_path"] / max(1, counts["parallel_crossings"])
+    chain = shared * counts["parallel_critical_path"] / max(1, counts["list_crossings"])
     return {p: alone + max(shared / p, chain) for p in kPredictedThreads}
 
 
@@ -109,7 +109,7 @@ def write_markdown(path: Path, report: dict) -> str:
         phases_two = mesh["phases"]["2"]
         rows.append([mesh["name"], f"{two['vertex_pops'] / max(1, two['parallel_bands']):.0f}",
                      f"{two['parallel_critical_path']:,}",
-                     f"{two['parallel_crossings'] / max(1, two['parallel_critical_path']):.0f}",
+                     f"{two['list_crossings'] / max(1, two['parallel_critical_path']):.0f}",
                      f"{1 - phases_two['parallel_seconds'] / phases_two['propagation_seconds']:.0%}",
                      *(f"{one['propagation_seconds'] / predicted[p]:.1f}x" for p in kPredictedThreads)])
     lines += markdown_table(["mesh", "vertices per band", "critical path (crossings)", "crossings per step",

@@ -102,12 +102,29 @@ struct GeodesicStats {
   std::uint64_t pseudo_source_emissions = 0;
   std::uint64_t parallel_bands = 0;
   std::uint64_t parallel_critical_path = 0;
-  std::uint64_t parallel_crossings = 0;
+  std::uint64_t list_crossings = 0;
+  std::uint64_t parallel_lock_waits = 0;
   double propagation_seconds = 0.0;
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
   double queue_seconds = 0.0;
   double parallel_seconds = 0.0;
+  double parallel_busy_seconds = 0.0;
+  double parallel_busiest_thread_seconds = 0.0;
+  double parallel_start_seconds = 0.0;
+  double parallel_starved_seconds = 0.0;
+  double parallel_lock_wait_seconds = 0.0;
+
+  // threads > 1 with collect_timings: one record per band, in order (empty otherwise). Not in the field
+  // table below: the command line writes it to its --stats file as columns.
+  struct Band {
+    std::uint32_t vertices = 0;   // moved inside by the band
+    std::uint32_t crossings = 0;  // list crossings in it
+    std::uint16_t depth = 0;      // its longest chain of crossings (parallel_critical_path's part)
+    double seconds = 0.0;         // wall time of the threads' part
+    double busy_seconds = 0.0;    // summed over the threads
+  };
+  std::vector<Band> band_timeline;
 };
 
 // What a field of GeodesicStats holds, for code that prints it.
@@ -140,8 +157,12 @@ constexpr void for_each_stats_field(Visit&& visit) {
   visit("parallel_critical_path", &S::parallel_critical_path, count,
         "threads > 1: the longest chain of list crossings in each band, each waiting for the one before, summed "
         "over the bands (the steps no thread count can shorten)");
-  visit("parallel_crossings", &S::parallel_crossings, count,
-        "threads > 1: list crossings (parallel_crossings / parallel_critical_path: the work a step can share)");
+  visit("list_crossings", &S::list_crossings, count,
+        "window lists crossed over a triangle; with threads > 1, against one thread's: "
+        "the lists crossed again because more windows joined them, and list_crossings / parallel_critical_path: "
+        "the work a step can share");
+  visit("parallel_lock_waits", &S::parallel_lock_waits, count,
+        "threads > 1: times a thread found a face's or a vertex's lock taken and waited");
   visit("propagation_seconds", &S::propagation_seconds, seconds, "wall time of the propagation");
   visit("window_propagation_seconds", &S::window_propagation_seconds, phase,
         "crossing window lists over triangles (0 unless collect_timings)");
@@ -150,6 +171,20 @@ constexpr void for_each_stats_field(Visit&& visit) {
   visit("parallel_seconds", &S::parallel_seconds, phase,
         "threads > 1: the part all threads share (each band's emissions, faces and crossings; 0 unless "
         "collect_timings); the rest of propagation_seconds runs on one thread");
+  visit("parallel_busy_seconds", &S::parallel_busy_seconds, phase,
+        "threads > 1: time the threads spent working in the bands, summed over the threads; threads * "
+        "parallel_seconds minus this is the time they waited (0 unless collect_timings)");
+  visit("parallel_busiest_thread_seconds", &S::parallel_busiest_thread_seconds, phase,
+        "threads > 1: parallel_busy_seconds of the busiest thread (0 unless collect_timings)");
+  visit("parallel_start_seconds", &S::parallel_start_seconds, phase,
+        "threads > 1: of the waits, from a band's start until each thread joined it, summed (0 unless "
+        "collect_timings)");
+  visit("parallel_starved_seconds", &S::parallel_starved_seconds, phase,
+        "threads > 1: of the waits, threads out of lists waiting for another to hand some over, summed; the "
+        "rest is the wait at the bands' ends (0 unless collect_timings)");
+  visit("parallel_lock_wait_seconds", &S::parallel_lock_wait_seconds, phase,
+        "threads > 1: time spent waiting for locks, summed over the threads; part of parallel_busy_seconds "
+        "(0 unless collect_timings)");
 }
 
 inline constexpr std::uint32_t kNoSource = std::numeric_limits<std::uint32_t>::max();
