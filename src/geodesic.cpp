@@ -124,20 +124,22 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
   GeodesicResult& result = result_;
   result.stats = engine.stats();
   const double cutoff = engine.cutoff();
-  const std::vector<double>& d = engine.distances();
+  const std::span<const double> d = engine.distances();
   // With one source every reachable vertex belongs to it; otherwise follow the pseudo-source chains.
   std::vector<std::uint32_t> labels;
   if (source_count > 1) labels = engine.vertex_labels();
   const auto label_of_vertex = [&](std::uint32_t s) { return labels.empty() ? 0u : labels[s]; };
 
-  result.distances.assign(mesh_->vertex_count(), HUGE_VAL);
-  result.nearest_source.assign(mesh_->vertex_count(), kNoSource);
-  for (std::uint32_t v = 0; v < mesh_->vertex_count(); ++v) {
-    const std::uint32_t s = surface.nearest_copy(v, d);  // the smallest over the vertex's copies
-    if (s == detail::kNone || std::isinf(d[s]) || !(d[s] <= cutoff)) continue;  // used by no face, unreached
-    result.distances[v] = surface.to_input_length(d[s]);
-    result.nearest_source[v] = label_of_vertex(s);
-  }
+  result.distances.resize(mesh_->vertex_count());
+  result.nearest_source.resize(mesh_->vertex_count());
+  engine.for_parts(mesh_->vertex_count(), [&](std::size_t begin, std::size_t end) {
+    for (auto v = static_cast<std::uint32_t>(begin); v < end; ++v) {
+      const std::uint32_t s = surface.nearest_copy(v, d);  // the smallest over the vertex's copies
+      const bool reached = s != detail::kNone && !std::isinf(d[s]) && d[s] <= cutoff;  // else used by no face, unreached
+      result.distances[v] = reached ? surface.to_input_length(d[s]) : HUGE_VAL;
+      result.nearest_source[v] = reached ? label_of_vertex(s) : kNoSource;
+    }
+  });
   result.target_distances.assign(targets.size(), HUGE_VAL);
   result.target_nearest_source.assign(targets.size(), kNoSource);
   for (std::size_t t = 0; t < targets.size(); ++t) {

@@ -149,7 +149,7 @@ class PathBuilder {
             together.push_back(other);
       }
     }
-    const std::vector<double>& d = engine_.distances();
+    const std::span<const double> d = engine_.distances();
     std::sort(together.begin(), together.end(),
               [&](std::uint32_t a, std::uint32_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
     return together;
@@ -164,7 +164,7 @@ class PathBuilder {
   // one along the zero-length edges. A piece that cannot be traced, or that comes back, is no way out.
   std::uint32_t leave_coincident(std::uint32_t v) {
     const std::vector<std::uint32_t> together = coincident_with(v);
-    const std::vector<double>& d = engine_.distances();
+    const std::span<const double> d = engine_.distances();
     const std::size_t before = path_.points.size();
     for (const std::uint32_t w : together) {
       if (!(d[w] < HUGE_VAL)) break;  // not reached (beyond a cut-off), nor are those after it

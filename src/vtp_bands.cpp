@@ -68,7 +68,10 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   if (!(band_width_ > 0)) band_width_ = 1;  // every edge of length 0: every distance is 0
 
   for (ThreadScratch& s : scratch_) s.queued_by_band.resize(kBandSlots);
-  band_of_.assign(mesh_.vertex_count, 0);  // band 0 is never under way: sources at distance 0 fall in band 1
+  band_of_.resize(mesh_.vertex_count);  // band 0 is never under way: sources at distance 0 fall in band 1
+  for_parts(mesh_.vertex_count, [&](std::size_t begin, std::size_t end) {
+    std::fill(band_of_.begin() + begin, band_of_.begin() + end, std::uint64_t{0});
+  });
   band_index_ = 0;
   timeline_crossings_ = 0;
   timeline_busy_seconds_ = 0;

@@ -114,13 +114,31 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   cutoff_ = options_.max_distance;
   sources_.assign(sources.begin(), sources.end());
   const std::uint32_t n = mesh_.vertex_count;
-  distance_.assign(n, HUGE_VAL);
-  emitted_at_.assign(n, HUGE_VAL);
-  arrival_.assign(n, Arrival{});
-  state_.assign(n, VertexState::unseen);
-  emit_scheduled_.assign(n, 0);
-  source_label_.assign(n, kNone);
-  face_visited_at_.assign(mesh_.face_count(), kNone);
+  const unsigned wanted = face_sorted_ ? 1 : threads_or_cores(options.threads);
+  if (wanted > 1 && (!pool_ || pool_asked_ != wanted)) {
+    pool_ = std::make_unique<WorkerPool>(wanted);
+    pool_asked_ = wanted;
+  }
+  threads_ = wanted > 1 ? pool_->threads() : 1;  // fewer if the system would not start them all
+  // The per-vertex and per-face state is written on the threads, which also places its fresh pages.
+  distance_.resize(n);
+  emitted_at_.resize(n);
+  arrival_.resize(n);
+  state_.resize(n);
+  emit_scheduled_.resize(n);
+  source_label_.resize(n);
+  face_visited_at_.resize(mesh_.face_count());
+  for_parts(n, [&](std::size_t begin, std::size_t end) {
+    std::fill(distance_.begin() + begin, distance_.begin() + end, HUGE_VAL);
+    std::fill(emitted_at_.begin() + begin, emitted_at_.begin() + end, HUGE_VAL);
+    std::fill(arrival_.begin() + begin, arrival_.begin() + end, Arrival{});
+    std::fill(state_.begin() + begin, state_.begin() + end, VertexState::unseen);
+    std::fill(emit_scheduled_.begin() + begin, emit_scheduled_.begin() + end, std::uint8_t{0});
+    std::fill(source_label_.begin() + begin, source_label_.begin() + end, kNone);
+  });
+  for_parts(mesh_.face_count(), [&](std::size_t begin, std::size_t end) {
+    std::fill(face_visited_at_.begin() + begin, face_visited_at_.begin() + end, kNone);
+  });
   vertex_queue_.reset(face_sorted_ ? 0 : n);
   face_queue_.reset(face_sorted_ ? mesh_.face_count() : 0);
   faces_to_join_.clear();
@@ -132,16 +150,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   emit_queue_.clear();
   iteration_ = 0;
   register_targets(targets);
-  const unsigned wanted = face_sorted_ ? 1 : threads_or_cores(options.threads);
-  if (wanted > 1 && (!pool_ || pool_asked_ != wanted)) {
-    pool_ = std::make_unique<WorkerPool>(wanted);
-    pool_asked_ = wanted;
-  }
-  const unsigned threads = wanted > 1 ? pool_->threads() : 1;  // fewer if the system would not start them all
-  lists_.reset(mesh_.halfedges.size(), threads, [&](std::size_t count, const auto& clear) {
-    if (threads == 1) return clear(0, count);
-    pool_->run(threads, [&](std::size_t part, unsigned) { clear(count * part / threads, count * (part + 1) / threads); });
-  });
+  lists_.reset(mesh_.halfedges.size(), threads_, [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
 
   for (std::uint32_t i = 0; i < sources_.size(); ++i) {
     const std::uint32_t v = sources_[i].point.vertex;
@@ -154,8 +163,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   }
   if (face_sorted_) {
     run_face_sorted();
-  } else if (threads > 1) {
-    run_vertex_sorted_in_bands(threads);
+  } else if (threads_ > 1) {
+    run_vertex_sorted_in_bands(threads_);
   } else {
     run_vertex_sorted();
   }

@@ -68,13 +68,20 @@ class VtpEngine {
   // Distances above the cut-off are not final: reported as +inf. Lengths are in the mesh's engine frame
   // (SurfaceMesh::scale_exponent).
   double cutoff() const { return cutoff_; }
-  const std::vector<double>& distances() const { return distance_; }  // per surface vertex
-  const std::vector<Arrival>& arrivals() const { return arrival_; }   // per surface vertex
+  std::span<const double> distances() const { return distance_; }  // per surface vertex
+  std::span<const Arrival> arrivals() const { return arrival_; }   // per surface vertex
   const std::vector<double>& target_distances() const { return target_distance_; }
   const std::vector<Arrival>& target_arrivals() const { return target_arrival_; }
   const std::vector<SourceSite>& sources() const { return sources_; }
   const std::vector<LocatedPoint>& targets() const { return targets_; }
   const GeodesicStats& stats() const { return stats_; }
+
+  // Calls work(begin, end) over [0, count) cut into one part per thread of the last run, on its threads.
+  template <class Work>
+  void for_parts(std::size_t count, Work&& work) {
+    if (threads_ == 1) return work(std::size_t{0}, count);
+    pool_->run(threads_, [&](std::size_t part, unsigned) { work(count * part / threads_, count * (part + 1) / threads_); });
+  }
 
   // The source each surface vertex's path starts from (an index into the user's sources), kNoSource where
   // the distance is +inf; and the same for a pseudo-source id as used in Arrival::from.
@@ -149,11 +156,12 @@ class VtpEngine {
   double cutoff_ = HUGE_VAL;
 
   std::vector<SourceSite> sources_;
-  std::vector<double> distance_, emitted_at_;
-  std::vector<Arrival> arrival_;
-  std::vector<std::uint32_t> source_label_, face_visited_at_;
-  std::vector<VertexState> state_;
-  std::vector<std::uint8_t> emit_scheduled_;
+  unsigned threads_ = 1;  // of the run
+  MeshArray<double> distance_, emitted_at_;
+  MeshArray<Arrival> arrival_;
+  MeshArray<std::uint32_t> source_label_, face_visited_at_;
+  MeshArray<VertexState> state_;
+  MeshArray<std::uint8_t> emit_scheduled_;
   std::uint32_t iteration_ = 0;
   bool face_sorted_ = false, order_preserving_ = false;
   WindowLists lists_;
@@ -202,7 +210,7 @@ class VtpEngine {
   static constexpr std::uint64_t kBandSlots = 1024;
   double band_width_ = 0;  // engine lengths: the wavefront advances by half an edge or one per band
   std::uint64_t band_index_ = 0;         // of the band under way
-  std::vector<std::uint64_t> band_of_;   // per vertex: the band it was last filed in
+  MeshArray<std::uint64_t> band_of_;    // per vertex: the band it was last filed in
   std::unique_ptr<WorkerPool> pool_;
   unsigned pool_asked_ = 0;  // the threads pool_ was asked for: it may have fewer, if the system refused some
   std::vector<ThreadScratch> scratch_;
