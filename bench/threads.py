@@ -35,8 +35,7 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
 from reports.threads import write_markdown
 from solvers.commands import missing_cli_options
-from solvers.runner import (RunSettings, SolverHistory, bench_mesh, default_memory_limit_gb, default_threads,
-                            launcher_floor_bytes)
+from solvers.runner import RunSettings, SolverHistory, bench_mesh, default_threads, launcher_floor_bytes
 from solvers.threads import threads_runs
 
 kBenchDir = Path(__file__).resolve().parent
@@ -125,7 +124,7 @@ def main(argv: list[str] | None = None) -> None:
     timed_runs = threads_runs(args.threads, args.exactgeo, timers=True)
     meshes = select_meshes_or_exit("threads.py", args.mesh_dir, args.work_dir, args.meshes, kSubdivided)
     settings = RunSettings(repeat=args.runs, timeout=args.timeout, max_repeat_seconds=args.max_repeat_seconds,
-                           memory_limit_gb=default_memory_limit_gb(), sources=1, reference_solvers=("exactgeo-t1",))
+                           sources=1, reference_solvers=("exactgeo-t1",))
 
     runs_root = args.work_dir / "runs" / args.name
     shutil.rmtree(runs_root, ignore_errors=True)

@@ -70,16 +70,19 @@ def propagation_rows(report: dict, mesh: dict) -> list[list]:
             continue
         per_round = paired_ratios(one, run) if one and count > 1 else []
         error = run.get("error", {})
+        if error.get("is_reference"):
+            distances, reachability = "(reference)", None
+        else:
+            distances = format_relative_error(error.get("max_relative_error"))
+            differ = error.get("reachability_disagreements")
+            reachability = None if differ is None else "same" if differ == 0 else f"{differ:,} differ"
         rows.append([
             name, str(count), format_seconds(run["propagation_seconds"]),
             format_ratio(one and one["propagation_seconds"], run["propagation_seconds"]),
             f"{statistics.median(per_round):.3g}x ({min(per_round):.3g}–{max(per_round):.3g})" if per_round else None,
             format_seconds(baseline and baseline["propagation_seconds"]),
             format_ratio(baseline and baseline["propagation_seconds"], run["propagation_seconds"]),
-            "(reference)" if error.get("is_reference") else format_relative_error(error.get("max_relative_error")),
-            None if error.get("is_reference") else
-            ("same" if error.get("reachability_disagreements") == 0 else f"{error.get('reachability_disagreements')} differ"),
-            f"{run['peak_rss_bytes'] / one['peak_rss_bytes']:.2f}" if one else None,
+            distances, reachability, f"{run['peak_rss_bytes'] / one['peak_rss_bytes']:.2f}" if one else None,
         ])
     return rows
 
@@ -146,8 +149,8 @@ def write_markdown(path: Path, report: dict) -> None:
         "# One source on every thread count",
         "",
         f"{report['date']} · {cpu_text(report['machine'])} · exactgeo {revision_text(report['software'])} · "
-        f"`{report['command']}` · {runs_text(report['settings']['runs'])} · baseline: {report['baseline'] or 'none'} · "
-        f"load average {load_text(report['load_average_at_start'])} at the start",
+        f"`{report['command']}` · {runs_text(report['settings']['runs'])} · baseline: "
+        f"{report['baseline'] or 'none'} · load average {load_text(report['load_average_at_start'])} at the start",
         "",
         "## Propagation",
         "",
@@ -176,8 +179,8 @@ def write_markdown(path: Path, report: dict) -> None:
               "a face's or vertex's lock, part of busy); the rest is the wait at the bands' ends. *Work ÷ 1 "
               "thread*: the busy time summed over the threads ÷ the one-thread propagation time; above 1 the "
               "threads together do more than one thread alone. *Crossed ÷ 1 thread*: list crossings ÷ one "
-              "thread's (lists crossed again because windows joined them meanwhile). *Per band per thread*: the "
-              "median over the bands of a band's crossings ÷ T. *Per step*: crossings ÷ the critical path, the "
+              "thread's (lists crossed again because windows joined them meanwhile). *Crossings per band per thread*: the "
+              "median over the bands of a band's crossings ÷ T. *Crossings per step*: crossings ÷ the critical path, the "
               "parallelism the bands offer.", ""]
     rows = [row for mesh in report["meshes"] for row in split_rows(report, mesh)]
     lines += markdown_table(["mesh", "threads", "propagation, timers on", "serial", "busy", "work ÷ 1 thread",
