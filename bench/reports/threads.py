@@ -179,9 +179,9 @@ def write_markdown(path: Path, report: dict) -> None:
               "a face's or vertex's lock, part of busy); the rest is the wait at the bands' ends. *Work ÷ 1 "
               "thread*: the busy time summed over the threads ÷ the one-thread propagation time; above 1 the "
               "threads together do more than one thread alone. *Crossed ÷ 1 thread*: list crossings ÷ one "
-              "thread's (lists crossed again because windows joined them meanwhile). *Crossings per band per thread*: the "
-              "median over the bands of a band's crossings ÷ T. *Crossings per step*: crossings ÷ the critical path, the "
-              "parallelism the bands offer.", ""]
+              "thread's (lists crossed again because windows joined them meanwhile). *Crossings per band per "
+              "thread*: the median over the bands of a band's crossings ÷ T. *Crossings per step*: crossings ÷ "
+              "the critical path, the parallelism the bands offer.", ""]
     rows = [row for mesh in report["meshes"] for row in split_rows(report, mesh)]
     lines += markdown_table(["mesh", "threads", "propagation, timers on", "serial", "busy", "work ÷ 1 thread",
                              "starved", "start", "lock wait", "lock waits", "crossed ÷ 1 thread",
