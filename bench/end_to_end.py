@@ -25,18 +25,14 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
 from solvers.commands import missing_cli_options
 from solvers.end_to_end import add_steps, configuration, kPeerReader, kPeers, whole_runs
-from solvers.runner import RunSettings, SolverHistory, bench_mesh, default_memory_limit_gb, launcher_floor_bytes
+from solvers.runner import (RunSettings, SolverHistory, bench_mesh, default_memory_limit_gb, default_threads,
+                            launcher_floor_bytes)
 
 kBenchDir = Path(__file__).resolve().parent
 kRepoRoot = kBenchDir.parent
 
 kDefaultMeshes = ["stanford-bunny", "nefertiti", "nefertiti-sub1", "nefertiti-sub2"]
 kSolvers = ["exactgeo", *kPeers]
-
-
-def default_threads() -> list[int]:
-    """1, 2 and every core: one thread, the smallest parallel run, and what the machine offers."""
-    return sorted({1, 2, os.cpu_count() or 1})
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:

@@ -46,6 +46,11 @@ def default_memory_limit_gb() -> float:
     return round(0.75 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") / kGiB, 1)
 
 
+def default_threads() -> list[int]:
+    """1, 2 and every core: one thread, the smallest parallel run, and what the machine offers."""
+    return sorted({1, 2, os.cpu_count() or 1})
+
+
 @dataclasses.dataclass
 class RunSettings:
     """How many runs, from which sources, under which caps (the runner's part of a script's options)."""
