@@ -278,19 +278,24 @@ std::string describe_mesh(const Json& settings) {
          " faces, sha256 " + settings.value("mesh_sha256", std::string()).substr(0, 12) + "...";
 }
 
-// Why the array whose metadata is `metadata_path` does not store its chunks as `expected` says (shape, data
-// type, chunks, chunk keys and uncompressed little-endian bytes, the layout blocks are written and read back
-// in); empty if it does.
-std::string array_problem(const fs::path& metadata_path, const Json& expected) {
-  std::optional<Json> metadata;
+// Reads the JSON object in `path` into `json`; returns why it cannot (naming the file), or nothing.
+std::string read_json_into(const fs::path& path, Json& json) {
   try {
-    metadata = read_json(metadata_path);
+    const std::optional<Json> read = read_json(path);
+    if (!read) return "'" + path.string() + "' is missing";
+    json = *read;
   } catch (const exactgeo::Error& e) {
     return e.what();
   }
-  if (!metadata) return "'" + metadata_path.string() + "' is missing";
+  return {};
+}
+
+// Why the array whose metadata is `metadata` (read from `metadata_path`) does not store its chunks as
+// `expected` says (shape, data type, chunks, chunk keys and uncompressed little-endian bytes, the layout blocks
+// are written and read back in); empty if it does.
+std::string array_problem(const fs::path& metadata_path, const Json& metadata, const Json& expected) {
   for (const char* key : {"shape", "data_type", "chunk_grid", "chunk_key_encoding", "codecs"}) {
-    const Json found = metadata->value(key, Json());
+    const Json found = metadata.value(key, Json());
     if (found == expected[key]) continue;
     if (std::string(key) != "codecs")
       return "'" + metadata_path.string() + "': its " + key + " is " + found.dump() + ", not " + expected[key].dump();
@@ -307,8 +312,10 @@ std::string array_problem(const fs::path& metadata_path, const Json& expected) {
 std::string distances_problem(const fs::path& path, const BlockShape& shape) {
   const std::vector<std::size_t> size = {shape.rows, shape.columns};
   const std::vector<std::size_t> chunks = {shape.block_rows, std::max<std::size_t>(1, shape.columns)};
-  return array_problem(path / "distances" / "zarr.json",
-                       array_metadata(size, chunks, shape.dtype, "NaN", {"source", "target"}));
+  const fs::path metadata_path = path / "distances" / "zarr.json";
+  Json metadata;
+  if (std::string problem = read_json_into(metadata_path, metadata); !problem.empty()) return problem;
+  return array_problem(metadata_path, metadata, array_metadata(size, chunks, shape.dtype, "NaN", {"source", "target"}));
 }
 
 // The bytes of a whole file, or nothing if it cannot be read.
@@ -338,23 +345,17 @@ std::string hash_chunk(const fs::path& path, const BlockShape& shape, std::size_
 std::string hash_pieces(const fs::path& path, const BlockShape& shape, std::size_t block, Sha256& digest) {
   for (const auto& [name, data_type] : {std::pair<std::string, std::string>{"data", shape.dtype},
                                         {"indices", "uint32"}, {"indptr", "int64"}}) {
-    const fs::path folder = path / "csr" / block_name(block) / name;
-    std::size_t count = 0;
-    try {
-      const std::optional<Json> metadata = read_json(folder / "zarr.json");
-      const Json size = metadata ? metadata->value("shape", Json()) : Json();
-      if (!size.is_array() || size.size() != 1 || !size[0].is_number_unsigned())
-        return "'" + (folder / "zarr.json").string() + "' is missing or has no shape";
-      if (metadata->value("fill_value", Json()) != 0)
-        return "'" + (folder / "zarr.json").string() + "': its fill_value is not 0";
-      count = size[0].get<std::size_t>();
-    } catch (const exactgeo::Error& e) {
-      return e.what();
-    }
+    const fs::path folder = path / "csr" / block_name(block) / name, metadata_path = folder / "zarr.json";
+    Json metadata;
+    if (std::string problem = read_json_into(metadata_path, metadata); !problem.empty()) return problem;
+    const Json shape_found = metadata.value("shape", Json());
+    if (!shape_found.is_array() || shape_found.size() != 1 || !shape_found[0].is_number_unsigned())
+      return "'" + metadata_path.string() + "': its shape is " + shape_found.dump() + ", not [a count]";
+    if (metadata.value("fill_value", Json()) != 0) return "'" + metadata_path.string() + "': its fill_value is not 0";
+    const std::size_t count = shape_found[0].get<std::size_t>();
     const std::vector<std::size_t> size = {count}, chunks = {std::max<std::size_t>(1, count)};
-    if (std::string problem = array_problem(folder / "zarr.json", array_metadata(size, chunks, data_type, 0, {name}));
-        !problem.empty())
-      return problem;
+    const Json layout = array_metadata(size, chunks, data_type, 0, {name});
+    if (std::string problem = array_problem(metadata_path, metadata, layout); !problem.empty()) return problem;
     const std::size_t expected = count * (data_type == "float32" || data_type == "uint32" ? 4 : 8);
     const fs::path chunk = folder / "c" / "0";
     std::error_code error;
@@ -376,14 +377,9 @@ std::string hash_pieces(const fs::path& path, const BlockShape& shape, std::size
 // is. The bytes hashed are those exactgeo.distributed's _block_intact hashes, so both agree on every store.
 std::string block_problem(const fs::path& path, const BlockShape& shape, std::size_t block) {
   const fs::path marker = path / "done" / block_name(block) / "zarr.json";
-  Json record;
-  try {
-    const std::optional<Json> json = read_json(marker);
-    if (!json) return "'" + marker.string() + "' is missing";
-    record = json->value("attributes", Json());
-  } catch (const exactgeo::Error& e) {
-    return e.what();
-  }
+  Json group;
+  if (std::string problem = read_json_into(marker, group); !problem.empty()) return problem;
+  const Json record = group.value("attributes", Json());
   const Json rows = {shape.first(block), shape.end(block)};
   if (!record.is_object() || !record.value("sha256", Json()).is_string() || record.value("rows", Json()) != rows)
     return "'" + marker.string() + "' does not record rows " + rows.dump() + " and their sha256";
