@@ -258,6 +258,15 @@ def _stored_settings(path: Path) -> Optional[dict]:
     if not isinstance(settings, dict) or settings.get("format") != FORMAT:
         raise ValueError(f"{path} is a Zarr store but not an exactgeo distance matrix: choose another store "
                          "(nothing was changed)")
+    # The counts are checked against each other, so that an edited block count cannot hide blocks.
+    try:
+        rows, _ = settings["shape"]
+        agree = len(settings["sources"]) == rows and settings["blocks"] == math.ceil(rows / settings["block_rows"])
+    except (KeyError, TypeError, ValueError, ZeroDivisionError):
+        agree = False
+    if not agree:
+        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's shape, sources, blocks and block_rows do "
+                         "not agree")
     return settings
 
 

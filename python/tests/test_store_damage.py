@@ -6,6 +6,7 @@ tests/test_cli_store.cpp; here each writer's store is continued by the other."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -169,3 +170,15 @@ def test_a_damaged_store_is_repaired_or_refused_never_vouched_for(cli, scratch, 
             assert not wanted or right_blocks(store, sparse) >= wanted, f"{context}, {resumer} resuming"
             if verify:
                 assert distributed.store_status(store, verify=True).complete, context
+
+
+def test_an_edited_block_count_is_refused_not_believed(cli, scratch):
+    store = scratch / "store.zarr"
+    write(store, "python", sparse=False)
+    metadata = json.loads((store / "zarr.json").read_text())
+    metadata["attributes"]["exactgeo"]["blocks"] = 1  # would hide blocks 1 and 2
+    (store / "zarr.json").write_text(json.dumps(metadata))
+    with pytest.raises(ValueError, match=r"zarr\.json: its exactgeo attribute's shape, sources, blocks and block_rows"):
+        distributed.store_status(store)
+    shown = subprocess.run([str(CLI), "matrix", "--status", str(store)], capture_output=True, text=True)
+    assert shown.returncode == 2 and "has 1 blocks, but 5 rows in blocks of 2 make 3" in shown.stderr
