@@ -10,7 +10,9 @@
 //
 // Block B is rows [B * block_rows, (B + 1) * block_rows). Every file appears whole (written beside its place,
 // then renamed), so processes computing different blocks share a store without locks, and a block counts as
-// done only through its marker, written after its data.
+// done only through its marker, written after its data: a block written again loses its marker first, and
+// its chunk or pieces are replaced, never kept, so a marker vouches only for the data its own attempt wrote.
+// Verifying reads a done block back and compares it with the sha256 its marker recorded.
 #pragma once
 
 #include <nlohmann/json.hpp>
