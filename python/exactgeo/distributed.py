@@ -28,7 +28,9 @@ a cluster):
                                     its attributes hold the block's rows and the sha256 of the bytes written
 
 A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
-at most blocks without markers, which the next run with resume=True computes again.
+at most blocks without markers, which the next run with resume=True computes again, replacing whatever data
+they left (a block being written again loses its marker first). verify=True (and `exactgeo matrix --verify`)
+checks the done blocks' data against the sha256 their markers recorded.
 
 The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
 v3), so either can continue a store the other began. The store is built in a hidden folder beside its place and
