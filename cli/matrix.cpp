@@ -32,14 +32,15 @@ struct MatrixArguments {
   std::string dtype = "float32";
   std::size_t block_rows = 0;  // 0: the store's, or the default for a new one
   std::string status;          // --status STORE: report on the store, compute nothing
+  bool verify = false;         // with --status or --resume: read the done blocks back and check their sha256
 };
 
-int print_store_status(const std::string& store) {
-  const StoreStatus status = read_store_status(store);
+int print_store_status(const std::string& store, bool verify) {
+  const StoreStatus status = read_store_status(store, verify);
   const nlohmann::ordered_json& settings = status.settings;
   const nlohmann::ordered_json shape = settings.value("shape", nlohmann::ordered_json::array());
   const nlohmann::ordered_json max_distance = settings.value("max_distance", nlohmann::ordered_json());
-  print_table({{"store", std::filesystem::absolute(store).string()},
+  Rows rows = {{"store", std::filesystem::absolute(store).string()},
                {"layout", settings.value("layout", std::string("?"))},
                {"shape", shape.size() == 2 ? shape[0].dump() + " x " + shape[1].dump() : shape.dump()},
                {"dtype", settings.value("dtype", std::string("?"))},
@@ -47,12 +48,20 @@ int print_store_status(const std::string& store) {
                {"block rows", settings.value("block_rows", nlohmann::ordered_json()).dump()},
                {"blocks", std::to_string(status.done.size() + status.missing.size())},
                {"done", std::to_string(status.done.size()) + ": " + block_ranges(status.done)},
-               {"missing", std::to_string(status.missing.size()) + ": " + block_ranges(status.missing)}});
+               {"missing", std::to_string(status.missing.size()) + ": " + block_ranges(status.missing)}};
+  if (verify) {
+    std::vector<std::size_t> corrupt;
+    for (const CorruptBlock& block : status.corrupt) corrupt.push_back(block.block);
+    rows.push_back({"corrupt", std::to_string(corrupt.size()) + ": " + block_ranges(corrupt)});
+    for (const CorruptBlock& block : status.corrupt)
+      rows.push_back({"block " + std::to_string(block.block), block.reason});
+  }
+  print_table(rows);
   return status.missing.empty() ? kExitOk : kExitIncomplete;
 }
 
 int run_matrix(const MatrixArguments& arguments) {
-  if (!arguments.status.empty()) return print_store_status(arguments.status);
+  if (!arguments.status.empty()) return print_store_status(arguments.status, arguments.verify);
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const std::vector<std::uint32_t> sources = parse_vertex_list(arguments.sources, "--sources");
@@ -73,6 +82,7 @@ int run_matrix(const MatrixArguments& arguments) {
                      .block_rows = arguments.block_rows,
                      .shard = arguments.shard.empty() ? Shard{} : parse_shard(arguments.shard),
                      .resume = arguments.resume,
+                     .verify = arguments.verify,
                      .quiet = arguments.quiet};
   if (std::isfinite(arguments.max_distance)) store.max_distance = arguments.max_distance;
   const std::unique_ptr<MatrixWriter> writer =
@@ -169,11 +179,17 @@ Command add_matrix_command(CLI::App& app) {
                           "Report which blocks of the store are done and which are missing, then exit (0: every "
                           "block done, 4: some missing); computes nothing")
           ->type_name("STORE.zarr");
+  CLI::Option* verify = command->add_flag(
+      "--verify", arguments->verify,
+      "With --status or --resume: read each block marked done back and check it against the sha256 its marker "
+      "recorded; --status reports those that differ as corrupt (and missing), --resume computes them again");
   MatrixArguments* a = arguments.get();
   a->mesh.mesh_unused = [a] { return !a->status.empty(); };
   const std::vector<CLI::Option*> computing = {sources, targets, max_distance, threads, out, shard, resume, dtype,
                                                block_rows};
-  a->mesh.checks.push_back([a, computing, shard, resume, dtype, block_rows] {
+  a->mesh.checks.push_back([a, computing, shard, resume, dtype, block_rows, verify] {
+    if (verify->count() && a->status.empty() && !a->resume)
+      throw CLI::ValidationError("--verify", "checks a store's done blocks: use it with --status or --resume");
     if (!a->status.empty()) {
       if (!a->mesh.name.empty()) throw CLI::ValidationError("--status", "takes a store alone, not a MESH");
       for (CLI::Option* option : computing)
@@ -189,7 +205,7 @@ Command add_matrix_command(CLI::App& app) {
         throw CLI::ValidationError(store_only->get_name(), "applies to .zarr stores only, not '" + a->out + "'");
   });
   command->footer(std::string(kExitCodesHelp) + " matrix --status: 0 when every block is done, " +
-                  std::to_string(kExitIncomplete) + " when some are missing.");
+                  std::to_string(kExitIncomplete) + " when some are missing (with --verify: or corrupt).");
   return {command, [arguments] { return run_matrix(*arguments); }};
 }
 

@@ -81,11 +81,19 @@ class HeldInterrupts {
   sigset_t held_{}, previous_{};
 };
 
+// What build_folder_into_place does with a folder already at `final`.
+enum class Existing {
+  kept,      // left as it is (another process's store, made first)
+  replaced,  // moved aside and removed: leftover pieces are never trusted
+};
+
 // Builds a folder at a hidden name beside `final`, then renames it into place, so that it appears whole.
-// False if a folder was there first (the one built is then removed): rename(2) replaces an empty folder and
-// fails on a full one. Nothing is left behind if building fails or an interrupt arrives meanwhile.
+// rename(2) replaces an empty folder and fails on a full one: a folder there first is kept (the one built is
+// removed, and the result is false) or replaced, as `existing` says. Nothing is left behind if building fails
+// or an interrupt arrives meanwhile, and interrupts wait while a folder is replaced, so that none lands
+// between moving the old one aside and renaming the new one in.
 template <class Build>
-bool build_folder_into_place(const fs::path& final, const Build& build) {
+bool build_folder_into_place(const fs::path& final, Existing existing, const Build& build) {
   const fs::path building = temporary_beside(final);
   std::error_code ignored;
   HeldInterrupts interrupts;
@@ -101,11 +109,23 @@ bool build_folder_into_place(const fs::path& final, const Build& build) {
     interrupts.deliver();
     throw io_error("interrupted while writing '" + final.string() + "'");  // if the signal's handler returned
   }
-  if (std::rename(building.c_str(), final.c_str()) == 0) return true;
-  const int reason = errno;
-  fs::remove_all(building, ignored);
-  if (reason == EEXIST || reason == ENOTEMPTY) return false;
-  throw io_error("cannot write '" + final.string() + "': " + std::strerror(reason));
+  while (std::rename(building.c_str(), final.c_str()) != 0) {
+    int reason = errno;
+    const bool occupied = reason == EEXIST || reason == ENOTEMPTY;
+    if (occupied && existing == Existing::replaced) {
+      // Another attempt at the same block may move it aside first (ENOENT): then the rename is tried again.
+      const fs::path aside = temporary_beside(final);
+      if (std::rename(final.c_str(), aside.c_str()) == 0 || errno == ENOENT) {
+        fs::remove_all(aside, ignored);
+        continue;
+      }
+      reason = errno;
+    }
+    fs::remove_all(building, ignored);
+    if (occupied && existing == Existing::kept) return false;
+    throw io_error("cannot write '" + final.string() + "': " + std::strerror(reason));
+  }
+  return true;
 }
 
 // The file appears whole or not at all, and its bytes are on disk before it does: a marker renamed into place
@@ -149,17 +169,34 @@ void write_array(const fs::path& folder, std::span<const std::size_t> shape, std
   write_json_whole(folder / "zarr.json", array_metadata(shape, chunk_shape, data_type, fill_value, dimension_names));
 }
 
+// The JSON object in `path`, or nothing if there is no such file; throws exactgeo::Error naming the file if it
+// holds anything else (a file cut short or overwritten).
 std::optional<Json> read_json(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return std::nullopt;
   Json json = Json::parse(file, nullptr, false);
   if (json.is_discarded()) throw invalid("'" + path.string() + "' is not valid JSON");
+  if (!json.is_object()) throw invalid("'" + path.string() + "' holds " + json.dump() + ", not a JSON object");
   return json;
 }
 
-// What a folder holds: nothing (absent or empty), or an exactgeo store's settings and its Zarr format.
+// The shape of a store's blocks, from the settings it records: what reading a block back needs.
+struct BlockShape {
+  std::size_t rows = 0, columns = 0, block_rows = 1;
+  std::string dtype;
+  bool sparse = false;
+
+  std::size_t item_bytes() const { return dtype == "float32" ? 4 : 8; }
+  std::size_t blocks() const { return (rows + block_rows - 1) / block_rows; }
+  std::size_t first(std::size_t block) const { return block * block_rows; }
+  std::size_t end(std::size_t block) const { return std::min(rows, (block + 1) * block_rows); }
+};
+
+// What a folder holds: nothing (absent or empty), or an exactgeo store's settings, its blocks' shape and its
+// Zarr format.
 struct Stored {
   Json settings;
+  BlockShape shape;
   int zarr_format;
 };
 
@@ -179,14 +216,35 @@ std::optional<Stored> read_stored(const fs::path& path) {
   } else {
     throw invalid("'" + path.string() + "' exists and is not a Zarr store: choose another store (nothing was changed)");
   }
-  const Json settings = attributes->value("exactgeo", Json());
+  const Json settings = attributes->is_object() ? attributes->value("exactgeo", Json()) : Json();
   if (!settings.is_object() || settings.value("format", "") != kStoreFormat)
     throw invalid("'" + path.string() + "' is a Zarr store but not an exactgeo distance matrix: choose another "
                   "store (nothing was changed)");
-  const auto count = [&settings](const char* key) { return settings.value(key, Json()).is_number_unsigned(); };
-  if (!count("blocks") || !count("block_rows") || settings["block_rows"] == 0)
-    throw invalid("'" + path.string() + "': its exactgeo attribute has no valid blocks and block_rows");
-  return Stored{settings, zarr_format};
+  // Every count is checked against the others, so that an edited block count cannot hide blocks.
+  const auto count = [&settings](const Json& value) { return value.is_number_unsigned(); };
+  const Json shape = settings.value("shape", Json()), dtype = settings.value("dtype", Json());
+  const Json block_rows = settings.value("block_rows", Json()), blocks = settings.value("blocks", Json());
+  if (!shape.is_array() || shape.size() != 2 || !count(shape[0]) || !count(shape[1]) || !count(block_rows) ||
+      block_rows == 0 || !count(blocks) || (dtype != "float32" && dtype != "float64") ||
+      !settings.contains("max_distance"))
+    throw invalid("'" + path.string() + "': its exactgeo attribute has no valid shape, dtype, max_distance, "
+                  "blocks and block_rows");
+  const BlockShape block_shape{.rows = shape[0].get<std::size_t>(),
+                               .columns = shape[1].get<std::size_t>(),
+                               .block_rows = block_rows.get<std::size_t>(),
+                               .dtype = dtype.get<std::string>(),
+                               .sparse = !settings["max_distance"].is_null()};
+  const Json sources = settings.value("sources", Json()), targets = settings.value("targets", Json());
+  const Json columns = targets.is_null() ? settings.value("vertex_count", Json()) : Json(targets.size());
+  if (!sources.is_array() || sources.size() != block_shape.rows || !(targets.is_null() || targets.is_array()) ||
+      columns != block_shape.columns)
+    throw invalid("'" + path.string() + "': its exactgeo attribute's shape " + shape.dump() + " is not its sources "
+                  "by its targets (or vertices)");
+  if (blocks != block_shape.blocks())
+    throw invalid("'" + path.string() + "': its exactgeo attribute has " + blocks.dump() + " blocks, but " +
+                  shape[0].dump() + " rows in blocks of " + block_rows.dump() + " make " +
+                  std::to_string(block_shape.blocks()));
+  return Stored{settings, block_shape, zarr_format};
 }
 
 std::vector<std::size_t> done_blocks(const fs::path& path, std::size_t blocks) {
@@ -220,35 +278,128 @@ std::string describe_mesh(const Json& settings) {
          " faces, sha256 " + settings.value("mesh_sha256", std::string()).substr(0, 12) + "...";
 }
 
-// A store's dense array must be the one this writer would make: same shape, chunks and dtype, uncompressed.
-void check_distances_array(const fs::path& path, const StoreSettings& settings) {
-  const fs::path metadata_path = path / "distances" / "zarr.json";
-  const std::optional<Json> metadata = read_json(metadata_path);
-  if (!metadata) throw invalid("'" + path.string() + "' has no distances array (" + metadata_path.string() + ")");
-  const std::vector<std::size_t> shape = {settings.sources.size(), settings.columns};
-  const std::vector<std::size_t> chunks = {settings.block_rows, std::max<std::size_t>(1, settings.columns)};
-  const Json expected = array_metadata(shape, chunks, settings.dtype, "NaN", {"source", "target"});
-  for (const char* key : {"shape", "data_type", "chunk_grid", "chunk_key_encoding", "codecs"}) {
-    const Json found = metadata->value(key, Json());
-    if (found == expected[key]) continue;
-    std::string what = "its " + std::string(key) + " is " + found.dump() + ", not " + expected[key].dump();
-    if (std::string(key) == "codecs") {
-      std::string names;
-      for (const Json& codec : found.is_array() ? found : Json::array())
-        names += (names.empty() ? "" : ", ") + codec.value("name", std::string("?"));
-      what = "its chunks are stored with codecs [" + names +
-             "]; the command writes uncompressed chunks only (codecs [bytes], little-endian)";
-    }
-    throw invalid("cannot write into '" + metadata_path.parent_path().string() + "': " + what +
-                  ". Continue this store with exactgeo.distributed, or choose another store (nothing was changed)");
+// Reads the JSON object in `path` into `json`; returns why it cannot (naming the file), or nothing.
+std::string read_json_into(const fs::path& path, Json& json) {
+  try {
+    const std::optional<Json> read = read_json(path);
+    if (!read) return "'" + path.string() + "' is missing";
+    json = *read;
+  } catch (const exactgeo::Error& e) {
+    return e.what();
   }
+  return {};
 }
 
-// The whole store, built beside `path` and renamed into place. False if another process put a store there
-// first: of processes racing here, one store wins.
-bool create_store(const fs::path& path, const StoreSettings& settings, const exactgeo::Mesh& mesh) {
+// Why the array whose metadata is `metadata` (read from `metadata_path`) does not store its chunks as
+// `expected` says (shape, data type, chunks, chunk keys and uncompressed little-endian bytes, the layout blocks
+// are written and read back in); empty if it does.
+std::string array_problem(const fs::path& metadata_path, const Json& metadata, const Json& expected) {
+  for (const char* key : {"shape", "data_type", "chunk_grid", "chunk_key_encoding", "codecs"}) {
+    const Json found = metadata.value(key, Json());
+    if (found == expected[key]) continue;
+    if (std::string(key) != "codecs")
+      return "'" + metadata_path.string() + "': its " + key + " is " + found.dump() + ", not " + expected[key].dump();
+    std::string names;
+    for (const Json& codec : found.is_array() ? found : Json::array())
+      names += (names.empty() ? "" : ", ") + (codec.is_object() ? codec.value("name", std::string("?")) : "?");
+    return "'" + metadata_path.parent_path().string() + "': its chunks are stored with codecs [" + names +
+           "]; the command writes and reads uncompressed chunks only (codecs [bytes], little-endian)";
+  }
+  return {};
+}
+
+// A store's dense array must be the one this writer would make: same shape, chunks and dtype, uncompressed.
+std::string distances_problem(const fs::path& path, const BlockShape& shape) {
+  const std::vector<std::size_t> size = {shape.rows, shape.columns};
+  const std::vector<std::size_t> chunks = {shape.block_rows, std::max<std::size_t>(1, shape.columns)};
+  const fs::path metadata_path = path / "distances" / "zarr.json";
+  Json metadata;
+  if (std::string problem = read_json_into(metadata_path, metadata); !problem.empty()) return problem;
+  return array_problem(metadata_path, metadata, array_metadata(size, chunks, shape.dtype, "NaN", {"source", "target"}));
+}
+
+// The bytes of a whole file, or nothing if it cannot be read.
+std::optional<std::vector<unsigned char>> read_file(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return std::nullopt;
+  std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (file.bad()) return std::nullopt;
+  return bytes;
+}
+
+// Hashes dense block `block` as its writer did: the rows of its chunk, without the padding of the last one.
+std::string hash_chunk(const fs::path& path, const BlockShape& shape, std::size_t block, Sha256& digest) {
+  const fs::path chunk = path / "distances" / "c" / std::to_string(block) / "0";
+  const std::optional<std::vector<unsigned char>> bytes = read_file(chunk);
+  if (!bytes) return "'" + chunk.string() + "' is missing";
+  const std::size_t row_bytes = shape.columns * shape.item_bytes();
+  if (bytes->size() != shape.block_rows * row_bytes)
+    return "'" + chunk.string() + "' has " + std::to_string(bytes->size()) + " bytes, not " +
+           std::to_string(shape.block_rows * row_bytes);
+  digest.update(std::span(*bytes).first((shape.end(block) - shape.first(block)) * row_bytes));
+  return {};
+}
+
+// Hashes sparse block `block` as its writer did: the values of its pieces data, indices and indptr, each a
+// one-chunk array. Zarr leaves out a chunk holding the fill value alone (0): an absent chunk reads as zeros.
+std::string hash_pieces(const fs::path& path, const BlockShape& shape, std::size_t block, Sha256& digest) {
+  for (const auto& [name, data_type] : {std::pair<std::string, std::string>{"data", shape.dtype},
+                                        {"indices", "uint32"}, {"indptr", "int64"}}) {
+    const fs::path folder = path / "csr" / block_name(block) / name, metadata_path = folder / "zarr.json";
+    Json metadata;
+    if (std::string problem = read_json_into(metadata_path, metadata); !problem.empty()) return problem;
+    const Json shape_found = metadata.value("shape", Json());
+    if (!shape_found.is_array() || shape_found.size() != 1 || !shape_found[0].is_number_unsigned())
+      return "'" + metadata_path.string() + "': its shape is " + shape_found.dump() + ", not [a count]";
+    if (metadata.value("fill_value", Json()) != 0) return "'" + metadata_path.string() + "': its fill_value is not 0";
+    const std::size_t count = shape_found[0].get<std::size_t>();
+    const std::vector<std::size_t> size = {count}, chunks = {std::max<std::size_t>(1, count)};
+    const Json layout = array_metadata(size, chunks, data_type, 0, {name});
+    if (std::string problem = array_problem(metadata_path, metadata, layout); !problem.empty()) return problem;
+    const std::size_t expected = count * (data_type == "float32" || data_type == "uint32" ? 4 : 8);
+    const fs::path chunk = folder / "c" / "0";
+    std::error_code error;
+    if (!fs::exists(chunk, error) && !error) {
+      digest.update(std::vector<unsigned char>(expected, 0));
+      continue;
+    }
+    const std::optional<std::vector<unsigned char>> bytes = read_file(chunk);
+    if (!bytes) return "'" + chunk.string() + "' cannot be read";
+    if (bytes->size() != expected)
+      return "'" + chunk.string() + "' has " + std::to_string(bytes->size()) + " bytes, not " +
+             std::to_string(expected);
+    digest.update(*bytes);
+  }
+  return {};
+}
+
+// Why done block `block`'s data on disk is not what its marker recorded (naming the file at fault); empty if it
+// is. The bytes hashed are those exactgeo.distributed's _block_intact hashes, so both agree on every store.
+std::string block_problem(const fs::path& path, const BlockShape& shape, std::size_t block) {
+  const fs::path marker = path / "done" / block_name(block) / "zarr.json";
+  Json group;
+  if (std::string problem = read_json_into(marker, group); !problem.empty()) return problem;
+  const Json record = group.value("attributes", Json());
+  const Json rows = {shape.first(block), shape.end(block)};
+  if (!record.is_object() || !record.value("sha256", Json()).is_string() || record.value("rows", Json()) != rows)
+    return "'" + marker.string() + "' does not record rows " + rows.dump() + " and their sha256";
+  Sha256 digest;
+  const std::string problem =
+      shape.sparse ? hash_pieces(path, shape, block, digest) : hash_chunk(path, shape, block, digest);
+  if (!problem.empty()) return problem;
+  if (digest.hex_digest() == record["sha256"]) return {};
+  if (shape.sparse)
+    return "the pieces in '" + (path / "csr" / block_name(block)).string() + "' do not hash to the sha256 in '" +
+           marker.string() + "'";
+  return "'" + (path / "distances" / "c" / std::to_string(block) / "0").string() +
+         "' does not hash to the sha256 in '" + marker.string() + "'";
+}
+
+// The whole store, built beside `path` and renamed into place, unless another process put one there first: of
+// processes racing here, one store wins.
+void create_store(const fs::path& path, const StoreSettings& settings, const exactgeo::Mesh& mesh) {
   if (path.has_parent_path()) fs::create_directories(path.parent_path());
-  return build_folder_into_place(path, [&](const fs::path& building) {
+  build_folder_into_place(path, Existing::kept, [&](const fs::path& building) {
     const Json attributes = {{"exactgeo", settings_json(settings)}};
     write_json_whole(building / "zarr.json", group_metadata(attributes));
     const std::size_t rows = settings.sources.size();
@@ -281,15 +432,24 @@ bool create_store(const fs::path& path, const StoreSettings& settings, const exa
 // Writes a shard's blocks as their rows arrive: each block's data, then its marker.
 class StoreWriter final : public MatrixWriter {
  public:
-  StoreWriter(fs::path path, StoreSettings settings, const StoreRequest& request)
+  StoreWriter(fs::path path, StoreSettings settings, const BlockShape& shape, const StoreRequest& request)
       : path_(std::move(path)), settings_(std::move(settings)), shard_(request.shard), quiet_(request.quiet),
-        started_(std::chrono::steady_clock::now()) {
+        verify_(request.resume && request.verify), started_(std::chrono::steady_clock::now()) {
     const std::vector<std::size_t> done = done_blocks(path_, settings_.blocks());
     for (std::size_t block : shard_blocks(shard_, settings_.blocks())) {
-      if (request.resume && std::binary_search(done.begin(), done.end(), block))
-        ++reused_;
-      else
+      if (!request.resume || !std::binary_search(done.begin(), done.end(), block)) {
         todo_.push_back(block);
+        continue;
+      }
+      const std::string problem = verify_ ? block_problem(path_, shape, block) : std::string();
+      if (problem.empty()) {
+        ++reused_;
+        continue;
+      }
+      if (!quiet_) std::fprintf(stderr, "exactgeo: block %zu failed verification: %s\n", block, problem.c_str());
+      remove_marker(block);
+      todo_.push_back(block);
+      ++failed_;
     }
   }
 
@@ -314,13 +474,24 @@ class StoreWriter final : public MatrixWriter {
     if (!pending_.empty()) throw exactgeo::Error(exactgeo::ErrorCode::internal, "a block was left unfinished");
     if (quiet_) return;
     const std::size_t done = done_blocks(path_, settings_.blocks()).size();
-    std::fprintf(stderr, "exactgeo: %s shard %zu/%zu: %zu blocks computed, %zu reused (done before), of %zu; the "
-                 "store has %zu of %zu blocks done\n", path_.c_str(), shard_.index, shard_.count, computed_, reused_,
-                 computed_ + reused_, done, settings_.blocks());
+    const std::string failed = verify_ ? " (" + std::to_string(failed_) + " of them failed verification)" : "";
+    std::fprintf(stderr, "exactgeo: %s shard %zu/%zu: %zu blocks computed%s, %zu reused (done before%s), of %zu; "
+                 "the store has %zu of %zu blocks done\n", path_.c_str(), shard_.index, shard_.count, computed_,
+                 failed.c_str(), reused_, verify_ ? ", verified" : "", computed_ + reused_, done, settings_.blocks());
   }
 
  private:
+  // A block whose data is about to be replaced is not done until its new marker: its old one goes first, so
+  // that a run stopped in between leaves the block missing, never marked done over other data.
+  void remove_marker(std::size_t block) {
+    const fs::path marker = path_ / "done" / block_name(block);
+    std::error_code error;
+    fs::remove_all(marker, error);
+    if (error) throw io_error("cannot remove '" + marker.string() + "': " + error.message());
+  }
+
   void write_block(std::size_t block, std::size_t end) {
+    remove_marker(block);
     const std::size_t first = block * settings_.block_rows;
     Json record = {{"block", block}, {"rows", {first, end}}};
     Sha256 digest;
@@ -377,9 +548,9 @@ class StoreWriter final : public MatrixWriter {
     const std::vector<unsigned char> index_bytes = little_endian_bytes(indices);
     const std::vector<unsigned char> pointer_bytes = little_endian_bytes(indptr);
     for (const auto* bytes : {&data_bytes, &index_bytes, &pointer_bytes}) digest.update(*bytes);
-    // If another attempt at this block put its pieces there first, they are the same rows, complete (blocks
-    // are deterministic): kept.
-    build_folder_into_place(path_ / "csr" / block_name(block), [&](const fs::path& building) {
+    // Pieces already there (an earlier attempt whose marker was never written, or was removed because they
+    // did not match it) are replaced: the marker that follows vouches for these bytes only.
+    build_folder_into_place(path_ / "csr" / block_name(block), Existing::replaced, [&](const fs::path& building) {
       write_group(building);
       write_array(building / "data", std::vector<std::size_t>{data.size()}, settings_.dtype, 0.0, {"data"}, data_bytes);
       write_array(building / "indices", std::vector<std::size_t>{indices.size()}, "uint32", 0, {"indices"},
@@ -394,8 +565,9 @@ class StoreWriter final : public MatrixWriter {
   StoreSettings settings_;
   Shard shard_;
   bool quiet_;
+  bool verify_;  // the done blocks were read back, and those not matching their marker computed again
   std::vector<std::size_t> todo_;
-  std::size_t reused_ = 0, computed_ = 0;
+  std::size_t reused_ = 0, computed_ = 0, failed_ = 0;
   std::vector<double> pending_;  // the rows of the block being received
   std::size_t pending_first_ = 0;
   std::chrono::steady_clock::time_point started_;  // of the block being received
@@ -510,12 +682,29 @@ std::vector<std::string> store_differences(const Json& stored, const Json& wante
   return found;
 }
 
-StoreStatus read_store_status(const fs::path& path) {
+StoreStatus read_store_status(const fs::path& store, bool verify) {
+  const fs::path path = fs::absolute(store);
   const std::optional<Stored> stored = read_stored(path);
   if (!stored) throw invalid("'" + path.string() + "' holds no exactgeo distance matrix store");
-  const std::size_t blocks = stored->settings["blocks"].get<std::size_t>();
-  StoreStatus status{stored->settings, done_blocks(path, blocks), {}};
-  for (std::size_t block = 0; block < blocks; ++block)
+  StoreStatus status{stored->settings, done_blocks(path, stored->shape.blocks()), {}, {}};
+  if (verify) {
+    if (stored->zarr_format != kZarrFormat)
+      throw invalid("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
+                    " store: the command verifies format 3 stores only");
+    if (!stored->shape.sparse)
+      if (const std::string problem = distances_problem(path, stored->shape); !problem.empty())
+        throw invalid("cannot verify '" + path.string() + "': " + problem);
+    std::vector<std::size_t> intact;
+    for (std::size_t block : status.done) {
+      std::string problem = block_problem(path, stored->shape, block);
+      if (problem.empty())
+        intact.push_back(block);
+      else
+        status.corrupt.push_back({block, std::move(problem)});
+    }
+    status.done = std::move(intact);
+  }
+  for (std::size_t block = 0; block < stored->shape.blocks(); ++block)
     if (!std::binary_search(status.done.begin(), status.done.end(), block)) status.missing.push_back(block);
   return status;
 }
@@ -539,23 +728,28 @@ std::unique_ptr<MatrixWriter> open_matrix_store(const std::string& path_text, co
   if (!explicit_block_rows)
     settings.block_rows = default_block_rows(settings.sources.size(), settings.columns, request.dtype == "float32" ? 4 : 8);
   std::optional<Stored> stored = read_stored(path);
-  if (!stored && !create_store(path, settings, mesh)) stored = read_stored(path);  // another shard's, just made
-  if (stored) {
-    if (stored->zarr_format != kZarrFormat)
-      throw invalid("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
-                    " store (zarr-python 2 made it); the command writes format 3 only: continue it with "
-                    "exactgeo.distributed, or choose another store (nothing was changed)");
-    if (!explicit_block_rows) settings.block_rows = stored->settings["block_rows"].get<std::size_t>();
-    const std::vector<std::string> differences =
-        store_differences(stored->settings, settings_json(settings), explicit_block_rows);
-    if (!differences.empty()) {
-      std::string message = "the store '" + path.string() + "' was made for ";
-      for (std::size_t i = 0; i < differences.size(); ++i) message += (i ? "; " : "") + differences[i];
-      throw invalid(message + ". Use another store, or remove this one to start over (nothing was changed)");
-    }
-    if (!settings.max_distance) check_distances_array(path, settings);
+  if (!stored) {
+    create_store(path, settings, mesh);
+    stored = read_stored(path);  // this one, or the one another shard made first
   }
-  return std::make_unique<StoreWriter>(path, std::move(settings), request);
+  if (!stored) throw io_error("'" + path.string() + "' was removed while it was made");
+  if (stored->zarr_format != kZarrFormat)
+    throw invalid("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
+                  " store (zarr-python 2 made it); the command writes format 3 only: continue it with "
+                  "exactgeo.distributed, or choose another store (nothing was changed)");
+  if (!explicit_block_rows) settings.block_rows = stored->shape.block_rows;
+  const std::vector<std::string> differences =
+      store_differences(stored->settings, settings_json(settings), explicit_block_rows);
+  if (!differences.empty()) {
+    std::string message = "the store '" + path.string() + "' was made for ";
+    for (std::size_t i = 0; i < differences.size(); ++i) message += (i ? "; " : "") + differences[i];
+    throw invalid(message + ". Use another store, or remove this one to start over (nothing was changed)");
+  }
+  if (!settings.max_distance)
+    if (const std::string problem = distances_problem(path, stored->shape); !problem.empty())
+      throw invalid("cannot write into '" + path.string() + "': " + problem +
+                    ". Continue this store with exactgeo.distributed, or choose another store (nothing was changed)");
+  return std::make_unique<StoreWriter>(path, std::move(settings), stored->shape, request);
 }
 
 }  // namespace exactgeo::cli

@@ -10,7 +10,9 @@
 //
 // Block B is rows [B * block_rows, (B + 1) * block_rows). Every file appears whole (written beside its place,
 // then renamed), so processes computing different blocks share a store without locks, and a block counts as
-// done only through its marker, written after its data.
+// done only through its marker, written after its data: a block written again loses its marker first, and
+// its chunk or pieces are replaced, never kept, so a marker vouches only for the data its own attempt wrote.
+// Verifying reads a done block back and compares it with the sha256 its marker recorded.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -75,13 +77,22 @@ nlohmann::ordered_json array_metadata(std::span<const std::size_t> shape, std::s
 std::vector<std::string> store_differences(const nlohmann::ordered_json& stored, const nlohmann::ordered_json& wanted,
                                            bool explicit_block_rows);
 
-// A store's settings and its done blocks, for --status. Throws exactgeo::Error if `path` is not an exactgeo
-// store.
+// A block marked done whose data on disk is not what its marker recorded, and why (naming the file at fault).
+struct CorruptBlock {
+  std::size_t block;
+  std::string reason;
+};
+
+// A store's settings and its done blocks, for --status. With `verify`, each done block's data is read back and
+// hashed as its marker's sha256 was (exactgeo.distributed.store_status(verify=True) does the same): those that
+// differ are corrupt, and missing. Throws exactgeo::Error naming the file if `path` is not an exactgeo store,
+// or (verifying) if its distances array is not stored as the command writes it.
 struct StoreStatus {
   nlohmann::ordered_json settings;
-  std::vector<std::size_t> done, missing;
+  std::vector<std::size_t> done, missing;  // missing: corrupt blocks included
+  std::vector<CorruptBlock> corrupt;
 };
-StoreStatus read_store_status(const std::filesystem::path& path);
+StoreStatus read_store_status(const std::filesystem::path& path, bool verify = false);
 
 // What the matrix command asks of a store besides the matrix's axes.
 struct StoreRequest {
@@ -92,6 +103,7 @@ struct StoreRequest {
   std::size_t block_rows = 0;  // 0: the store's, or the default for a new one
   Shard shard;
   bool resume = false;  // skip the shard's blocks already marked done
+  bool verify = false;  // with resume: read those blocks back first, and compute again any not matching its marker
   bool quiet = false;   // no summary line
 };
 

@@ -28,7 +28,9 @@ a cluster):
                                     its attributes hold the block's rows and the sha256 of the bytes written
 
 A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
-at most blocks without markers, which the next run with resume=True computes again.
+at most blocks without markers, which the next run with resume=True computes again, replacing whatever data
+they left (a block being written again loses its marker first). verify=True (and `exactgeo matrix --verify`)
+checks the done blocks' data against the sha256 their markers recorded.
 
 The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
 v3), so either can continue a store the other began. The store is built in a hidden folder beside its place and
@@ -134,8 +136,8 @@ def _new_array(group: Any, name: str, shape: tuple[int, ...], chunks: tuple[int,
                               dimension_names=list(dimensions), overwrite=True, **codecs)
 
 
-def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[str]) -> None:
-    array = _new_array(group, name, values.shape, values.shape, values.dtype, 0, dimensions)
+def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[str], compressed: bool = True) -> None:
+    array = _new_array(group, name, values.shape, values.shape, values.dtype, 0, dimensions, compressed)
     if values.size:
         array[...] = values
 
@@ -179,22 +181,40 @@ def _write_atomically(final: Path, data: Union[str, bytes, np.ndarray]) -> None:
             temporary.unlink()
 
 
-def _build_folder_into_place(final: Path, build: Callable[[Path], None]) -> bool:
+def _build_folder_into_place(final: Path, build: Callable[[Path], None], replace: bool = False) -> bool:
     """Builds a folder at a hidden name beside `final`, then renames it into place, so that it appears whole.
-    False if a folder was there first (rename replaces an empty folder and fails on a full one). Whatever stops
-    the building, an error or Ctrl-C (KeyboardInterrupt), nothing built is left behind."""
+    rename fails on a full folder: one there first is kept (the result is then False), or with `replace` moved
+    aside and removed, so that leftover pieces are never trusted. Whatever stops the building, an error or
+    Ctrl-C (KeyboardInterrupt), nothing built is left behind."""
     building = _beside(final)
     try:
         build(building)
-        try:
-            os.rename(building, final)
-        except OSError as error:
-            if error.errno not in (errno.EEXIST, errno.ENOTEMPTY):
-                raise
-            return False
-        return True
+        while True:
+            try:
+                os.rename(building, final)
+                return True
+            except OSError as error:
+                if error.errno not in (errno.EEXIST, errno.ENOTEMPTY):
+                    raise
+                if not replace:
+                    return False
+            aside = _beside(final)
+            try:
+                os.rename(final, aside)
+            except FileNotFoundError:  # another attempt at the same block moved it aside first
+                pass
+            shutil.rmtree(aside, ignore_errors=True)
     finally:
         shutil.rmtree(building, ignore_errors=True)  # nothing there once renamed
+
+
+def _remove_marker(path: Path, block: int) -> None:
+    """A block whose data is about to be replaced is not done until its new marker: its old one goes first, so
+    that a run stopped in between leaves the block missing, never marked done over other data."""
+    try:
+        shutil.rmtree(path / "done" / _block_name(block))
+    except FileNotFoundError:
+        pass
 
 
 def _write_marker(path: Path, block: int, record: dict) -> None:
@@ -233,10 +253,22 @@ def _stored_settings(path: Path) -> Optional[dict]:
     if not (path / "zarr.json").is_file():
         raise ValueError(f"{path} is a Zarr format 2 store: exactgeo.distributed reads and writes format 3 only "
                          "(zarr-python 3); choose another store (nothing was changed)")
-    settings = dict(_open_group(path, "r").attrs).get("exactgeo")
+    try:
+        settings = dict(_open_group(path, "r").attrs).get("exactgeo")
+    except Exception as error:  # zarr's own errors do not name the file
+        raise ValueError(f"{path / 'zarr.json'} cannot be read as a Zarr group: {error}") from None
     if not isinstance(settings, dict) or settings.get("format") != FORMAT:
         raise ValueError(f"{path} is a Zarr store but not an exactgeo distance matrix: choose another store "
                          "(nothing was changed)")
+    # The counts are checked against each other, so that an edited block count cannot hide blocks.
+    try:
+        rows, _ = settings["shape"]
+        agree = len(settings["sources"]) == rows and settings["blocks"] == math.ceil(rows / settings["block_rows"])
+    except (KeyError, TypeError, ValueError, ZeroDivisionError):
+        agree = False
+    if not agree:
+        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's shape, sources, blocks and block_rows do "
+                         "not agree")
     return settings
 
 
@@ -288,8 +320,11 @@ def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, t
 def _check_chunk_layout(path: Path) -> None:
     """Blocks write their chunk files themselves (_write_chunk): `distances` must store them as raw little-endian
     bytes under the default keys, as this module and the command make it. ValueError naming the codecs otherwise."""
-    with open(path / "distances" / "zarr.json") as file:
-        metadata = json.load(file)
+    try:
+        with open(path / "distances" / "zarr.json") as file:
+            metadata = json.load(file)
+    except (OSError, ValueError) as error:
+        raise ValueError(f"{path / 'distances' / 'zarr.json'} cannot be read: {error}") from None
     codecs = metadata.get("codecs")
     keys = metadata.get("chunk_key_encoding")
     if codecs != [{"name": "bytes", "configuration": {"endian": "little"}}] or \
@@ -337,15 +372,20 @@ def _context_of(context: Union[_Context, _StoreReference]) -> _Context:
         return context
     if context not in _contexts:
         path = Path(context.path)
+        settings = _open_group(path, "r").attrs["exactgeo"]
         if context.mesh_sha256 not in _meshes:
-            weld = bool(_open_group(path, "r").attrs["exactgeo"]["weld_duplicate_positions"])
-            mesh = Mesh(_open_array(path / "mesh" / "vertices")[...], _open_array(path / "mesh" / "faces")[...],
-                        weld_duplicate_positions=weld)
+            try:
+                vertices, faces = (_open_array(path / "mesh" / name)[...] for name in ("vertices", "faces"))
+            except Exception as error:  # zarr's own errors do not name the file
+                raise ValueError(f"the mesh stored in {path / 'mesh'} cannot be read: {error}") from None
+            mesh = Mesh(vertices, faces, weld_duplicate_positions=bool(settings["weld_duplicate_positions"]))
             if mesh_hash(mesh) != context.mesh_sha256:
                 raise ValueError(f"the mesh stored in {path} is not the one of this run (its sha256 differs)")
             _meshes.clear()
             _meshes[context.mesh_sha256] = mesh
-        targets = np.asarray(_open_array(path / "target")[...], dtype=np.int64) if context.has_targets else None
+        # From the attribute the driver checked against this run's targets, not the `target` array, which
+        # nothing checks.
+        targets = np.asarray(settings["targets"], dtype=np.int64) if context.has_targets else None
         _contexts.clear()
         _contexts[context] = _Context(_meshes[context.mesh_sha256], targets)
     return _contexts[context]
@@ -359,6 +399,7 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
     started = time.perf_counter()
     path = Path(store)
     context = _context_of(context)
+    _remove_marker(path, block)
     dtype = np.dtype(options["dtype"])
     max_distance = options["max_distance"]
     digest = hashlib.sha256()
@@ -387,12 +428,13 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
         def build(folder: Path) -> None:
             group = _open_group(folder, "w")
             for name, values in pieces.items():
-                _array_of(group, name, values, (name,))
+                # Uncompressed, as the command writes them, so that `exactgeo matrix --verify` reads them back.
+                _array_of(group, name, values, (name,), compressed=False)
 
-        # Built whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete. If
-        # another attempt at this block (a duplicate, or an earlier run stopped before the marker) put the same
-        # rows there first, those are kept.
-        _build_folder_into_place(path / "csr" / _block_name(block), build)
+        # Built whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete. Pieces
+        # already there (an earlier attempt stopped before its marker, or pieces that failed verification) are
+        # replaced: the marker that follows vouches for these bytes only.
+        _build_folder_into_place(path / "csr" / _block_name(block), build, replace=True)
         record["nnz"] = int(len(pieces["data"]))
     record["sha256"] = digest.hexdigest()
     record["seconds"] = time.perf_counter() - started
@@ -515,8 +557,7 @@ def distance_matrix_to_zarr(
     done = _done_blocks(path, blocks)
     if verify:
         for block in [b for b in done if not _block_intact(path, settings, b)]:
-            shutil.rmtree(path / "done" / _block_name(block))  # its marker goes first: computed again below
-            shutil.rmtree(path / "csr" / _block_name(block), ignore_errors=True)  # pieces are kept, not rewritten
+            _remove_marker(path, block)  # computed again below
             done.remove(block)
     todo = sorted(set(range(blocks)) - set(done))
     options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads, "block_rows": rows_per_block}

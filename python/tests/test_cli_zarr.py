@@ -297,3 +297,32 @@ def test_bad_input_is_refused_with_a_clear_message(cli, tmp_path):
     assert done.returncode == 2 and "is not a Zarr store" in done.stderr and "nothing was changed" in done.stderr
     assert [p.name for p in (tmp_path / "mine.zarr").iterdir()] == ["notes.txt"]
     assert cli_run("matrix", "--status", tmp_path / "mine.zarr", "--sources", "0").returncode == 1
+
+
+def test_verify_reports_a_chunk_corrupted_in_place_and_resume_repairs_it(cli, tmp_path):
+    store = tmp_path / "m.zarr"
+    command = ["matrix", TORUS, "--sources", SOURCE_LIST, "--block-rows", 4, "--out", store]
+    run_cli(*command, "--quiet")
+    with open(store / "distances" / "c" / "2" / "0", "r+b") as chunk:  # block 2: a value changed, its marker kept
+        chunk.seek(100)
+        chunk.write(b"\x00\x00\x80\x3f")
+    plain = cli_run("matrix", "--status", store)
+    assert plain.returncode == 0  # a marker alone says the block is done
+    shown = cli_run("matrix", "--status", store, "--verify")
+    assert shown.returncode == 4, shown.stderr
+    assert re.search(r"done +7: 0-1, 3-7\n", shown.stdout) and re.search(r"missing +1: 2\n", shown.stdout)
+    assert re.search(r"corrupt +1: 2\n", shown.stdout)
+    assert re.search(rf"block 2 +'{re.escape(str(store))}/distances/c/2/0' does not hash to the sha256 in "
+                     rf"'{re.escape(str(store))}/done/block_000002/zarr.json'", shown.stdout)
+    assert distributed.store_status(store, verify=True).corrupt == (2,)  # both verifiers agree
+    resumed = cli_run(*command, "--resume")  # without --verify: the marker is trusted
+    assert computed_blocks(resumed.stderr) == 0
+    repaired = cli_run(*command, "--resume", "--verify")
+    assert repaired.returncode == 0, repaired.stderr
+    assert "block 2 failed verification" in repaired.stderr and computed_blocks(repaired.stderr) == 1
+    assert "(1 of them failed verification), 7 reused (done before, verified)" in repaired.stderr
+    assert cli_run("matrix", "--status", store, "--verify").returncode == 0
+    assert np.array_equal(dense(store), REFERENCE.astype(np.float32))
+    # --verify checks the done blocks of a store: with --status or --resume only.
+    alone = cli_run(*command, "--verify")
+    assert alone.returncode == 1 and "use it with --status or --resume" in alone.stderr

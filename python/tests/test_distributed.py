@@ -7,6 +7,7 @@ import contextlib
 import functools
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -392,3 +393,18 @@ def test_stores_whose_chunks_blocks_cannot_write_are_refused(tmp_path):
             distributed.distance_matrix_to_zarr(MESH, SOURCES[:8], tmp_path / "v2.zarr", client=executor)
         with pytest.raises(ValueError, match="Zarr format 2 store"):
             distributed.store_status(tmp_path / "v2.zarr")
+
+
+def test_sparse_pieces_left_without_a_marker_are_replaced_not_vouched_for(tmp_path):
+    store = tmp_path / "s.zarr"
+    reference = exactgeo.distance_matrix(MESH, SOURCES, max_distance=0.6)
+    with ThreadPoolExecutor(1) as executor:
+        distributed.distance_matrix_to_zarr(MESH, SOURCES, store, max_distance=0.6, block_rows=4, client=executor)
+        # Block 3's pieces overwritten and its marker gone: what a crash between the two leaves.
+        data = zarr.open_array(str(store / "csr" / "block_000003" / "data"), mode="r+")
+        data[:] = 7.0
+        shutil.rmtree(store / "done" / "block_000003")
+        run = distributed.distance_matrix_to_zarr(MESH, SOURCES, store, max_distance=0.6, client=executor)
+    assert run.computed == (3,)
+    assert (distributed.read_sparse(store) != reference.astype(np.float32)).nnz == 0
+    assert distributed.store_status(store, verify=True).corrupt == ()
