@@ -16,7 +16,7 @@ from reports import anisotropy, distributed, end_to_end, many_sources, peers, py
 
 kResults = Path(__file__).resolve().parent / "results"
 kWriters = {"full": peers, "paper": variants, "anisotropy": anisotropy, "python-level": python_level,
-            "many-sources": many_sources, "threads": threads, "distributed": distributed,
+            "many-sources": many_sources, "threads": threads, "threads-sub2": threads, "distributed": distributed,
             "distributed-memory": distributed, "end-to-end": end_to_end}
 
 
