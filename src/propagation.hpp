@@ -26,6 +26,7 @@ struct FaceFrame {
 struct Tolerances {
   double prune;      // absolute: a window is pruned only if beaten by more than this
   double min_width;  // absolute: narrower windows are dropped
+  double reemit;     // absolute: a pseudo-source inside emits again when its distance drops by more than this
 };
 
 // How a list reaches C (paper Section 4.1): the shortest distance to C through any of its windows, the

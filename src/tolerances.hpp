@@ -24,8 +24,14 @@ inline constexpr double kShadowConeSlack = 1e-13;
 inline constexpr double kPruneTolerance = 1e-12;
 // a window narrower than this is dropped (the edge points it covers are within this of its neighbours');
 inline constexpr double kMinWindowWidth = 1e-13;
-// a pseudo-source re-emits windows only when its distance drops by more than this.
-inline constexpr double kReemitTolerance = 1e-12;
+// a pseudo-source re-emits windows only when its distance drops by more than this. Far below
+// kPruneTolerance: the windows it sent carry its old distance as they are, so a drop left unsent is an error
+// of the distances beyond it. One thread moves a vertex inside once its distance is final and rarely
+// lowers it after; the parallel bands move a band's vertices inside together, and on thin triangles
+// (aspect 1000:1 and more) a drop below 1e-12 of the length scale, left unsent, put their distances 2.6e-13
+// of the largest off one thread's (tests/test_fuzz.cpp, Fuzz.ThinTrianglesOnThreadsAgreeWithOneThread).
+// Above rounding: a drop of a few ulps does not send the windows again.
+inline constexpr double kReemitTolerance = 1e-15;
 
 // Path tracing snaps a point to a vertex, or ends a piece at its pseudo-source, within this distance.
 inline constexpr double kPathSnapTolerance = 1e-10;

@@ -385,7 +385,7 @@ void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arr
   if (state_[v] != VertexState::inside) {
     state_[v] = VertexState::queued;
     file_in_band(v, d, scratch);
-  } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
+  } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
     emit_scheduled_[v] = 1;
     scratch.to_emit.push_back(v);
   }

@@ -109,7 +109,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   options_.max_distance = mesh_.to_engine_length(options.max_distance);  // the cut-off in the engine's frame
   face_sorted_ = options.algorithm == Algorithm::ftp || options.algorithm == Algorithm::opftp;
   order_preserving_ = options.algorithm == Algorithm::opvtp || options.algorithm == Algorithm::opftp;
-  tolerances_ = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale};
+  tolerances_ = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale,
+                 kReemitTolerance * mesh_.length_scale};
   stats_ = {};
   cutoff_ = options_.max_distance;
   sources_.assign(sources.begin(), sources.end());
@@ -361,7 +362,7 @@ void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
   if (state_[v] != VertexState::inside) {
     state_[v] = VertexState::queued;
     if (!face_sorted_) push_vertex(v, d);
-  } else if (bends_paths(v) && d < emitted_at_[v] - tolerances_.prune && !emit_scheduled_[v]) {
+  } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
     // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
     emit_scheduled_[v] = 1;
     emit_queue_.push_back(v);
@@ -434,7 +435,7 @@ void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
     emit_scheduled_[v] = 0;
     d = distance_[v];
     arrival = arrival_[v];
-    if (!(d < emitted_at_[v] - tolerances_.prune && d <= cutoff_)) return;
+    if (!(lowered_since_emission(v, d) && d <= cutoff_)) return;
     emitted_at_[v] = d;
   }
   ++scratch_[thread].stats.pseudo_source_emissions;
@@ -488,7 +489,7 @@ void VtpEngine::emit_lowered_pseudo_source() {
   const std::uint32_t v = emit_queue_.back();
   emit_queue_.pop_back();
   emit_scheduled_[v] = 0;
-  if (distance_[v] < emitted_at_[v] - tolerances_.prune) emit(v);
+  if (lowered_since_emission(v, distance_[v])) emit(v);
 }
 
 // Cache hints for the records entering v's faces reads: each face's visit and its three lists.

@@ -107,6 +107,8 @@ class VtpEngine {
   void queue_face(std::uint32_t g, std::span<const Window> arriving);
   void schedule(std::uint32_t h);
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
+  // Whether distance d of v, inside the traversed area, is enough below the one it emitted at to emit again.
+  bool lowered_since_emission(std::uint32_t v, double d) const { return d < emitted_at_[v] - tolerances_.reemit; }
   void emit(std::uint32_t v);
   template <class Offer, class Place>
   void for_each_emission_part(std::uint32_t v, double d, const Arrival& arrival, Offer&& offer, Place&& place) const;

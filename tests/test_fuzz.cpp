@@ -11,7 +11,9 @@
 //   the factor (1e-12 relative).
 // A second test (Fuzz.CoincidentVerticesAndNonManifoldJunctions, below) builds what those families never
 // contain: vertices doubled in place (zero-length edges), bowties, books of pages and fins, where vertex targets
-// and paths must agree with the per-vertex output, on one thread and on several.
+// and paths must agree with the per-vertex output, on one thread and on several. A third
+// (Fuzz.ThinTrianglesOnThreadsAgreeWithOneThread) holds several threads to one thread's distances on
+// triangles up to 10^4 times longer than wide.
 // The default run takes a few seconds. EXACTGEO_FUZZ_CASES sets the number of cases of each test (`make fuzz`
 // runs 20000) and EXACTGEO_FUZZ_SEED the first seed: a failure names its seed, and
 // EXACTGEO_FUZZ_SEED=S EXACTGEO_FUZZ_CASES=1 runs that case alone.
@@ -459,6 +461,73 @@ TEST(Fuzz, CoincidentVerticesAndNonManifoldJunctions) {
   for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed)
     failing += check_junction_seed(seed) ? 0 : 1;
   std::printf("%llu junction cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
+              static_cast<unsigned long long>(first_seed), failing);
+}
+
+// ---- Thin triangles on several threads ---------------------------------------------------------------------
+
+// Threaded runs on meshes of thin triangles once differed from one thread by up to 3.4e-12 of the largest
+// distance (aspect ratios of 100:1 and more), where one thread agrees with CGAL to 1e-15. These cases stretch
+// a height field's grid along one axis by 10 to 10^4 (its triangles as thin), shear it at random and turn it,
+// then check 2, 3, 8 and 16 threads against one thread at the threads' promise (1e-14 of the largest
+// distance, the same vertices reached), and that a few vertices as targets get their per-vertex distance
+// and a path as long.
+constexpr std::uint64_t kDefaultThinCases = 24;
+constexpr double kThreadsAgreement = 1e-14;
+
+bool check_thin_seed(std::uint64_t seed) {
+  Random random(seed);
+  const int nx = 6 + static_cast<int>(random.below(19)), ny = 6 + static_cast<int>(random.below(19));
+  MeshSoup soup = exactgeo_test::random_height_field(random, nx, ny, random.uniform(0.02, 0.3), random.below(2) != 0);
+  const double stretch = std::pow(10.0, random.uniform(1, 4)), shear = random.uniform(-0.5, 0.5);
+  for (std::size_t i = 0; i < soup.positions.size(); i += 3) {
+    soup.positions[i] = (soup.positions[i] + shear * soup.positions[i + 1]) * stretch;
+    if (random.below(2)) std::swap(soup.positions[i], soup.positions[i + 1]);  // thin across or along
+  }
+  soup = exactgeo_test::randomly_rotated(std::move(soup), random);
+  const Mesh mesh(soup);
+  const std::uint32_t source = exactgeo_test::random_source_vertex(soup, seed);
+  Failures failures;
+  const exactgeo::GeodesicResult one = exactgeo::geodesic_distance(mesh, source);
+  const double largest = exactgeo_test::max_finite(one.distances);
+  std::vector<std::uint32_t> target_vertices;
+  std::vector<exactgeo::SurfacePoint> targets;
+  for (int i = 0; i < 4; ++i) {
+    target_vertices.push_back(random.below(mesh.vertex_count()));
+    targets.push_back(exactgeo::vertex_point(mesh, target_vertices.back()));
+  }
+  for (const unsigned threads : {2u, 3u, 8u, 16u}) {
+    const std::string where = std::to_string(threads) + " threads, stretch " + number(stretch) + ": ";
+    const std::vector<double> all = exactgeo::geodesic_distance(mesh, source, {.threads = threads}).distances;
+    if (const auto match = exactgeo_test::distances_match(all, one.distances, kThreadsAgreement); !match)
+      failures.add(where + match.message());
+    // With targets the run stops once they are final: their distances are the per-vertex ones.
+    exactgeo::GeodesicSolver solver(mesh);
+    const exactgeo::GeodesicResult& result = solver.solve(std::span(&source, 1), targets, {.threads = threads});
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+      const std::uint32_t v = target_vertices[t];
+      if (!(std::abs(result.target_distances[t] - one.distances[v]) <= kThreadsAgreement * largest) &&
+          !(std::isinf(result.target_distances[t]) && std::isinf(one.distances[v])))
+        failures.add(where + "target vertex " + std::to_string(v) + ": " + number(result.target_distances[t]) +
+                     ", one thread per vertex " + number(one.distances[v]));
+      else if (const std::string fault = path_fault(solver.path_to_target(t), result.target_distances[t], v);
+               !fault.empty())
+        failures.add(where + "target vertex " + std::to_string(v) + ": " + fault);
+    }
+  }
+  if (failures.count() == 0) return true;
+  ADD_FAILURE() << "seed " << seed << ": " << failures.count() << " failed checks\n" << failures.details()
+                << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
+                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz.ThinTrianglesOnThreadsAgreeWithOneThread";
+  return false;
+}
+
+TEST(Fuzz, ThinTrianglesOnThreadsAgreeWithOneThread) {
+  const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
+  const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", kDefaultThinCases);
+  std::size_t failing = 0;
+  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) failing += check_thin_seed(seed) ? 0 : 1;
+  std::printf("%llu thin-triangle cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
               static_cast<unsigned long long>(first_seed), failing);
 }
 
