@@ -132,7 +132,7 @@ Command add_matrix_command(CLI::App& app) {
           ->type_name("R");
   CLI::Option* threads =
       command->add_option("--threads", arguments->threads, "Worker threads (default: one per core; never more than sources)")
-          ->check(count_check())
+          ->check(count_check(std::numeric_limits<unsigned>::max()))
           ->type_name("T");
   CLI::Option* out = add_output_option(
       *command, "--out", arguments->out,

@@ -1057,4 +1057,13 @@ TEST_F(Cli, RunsGoOnWithTheThreadsTheSystemStarts) {
   EXPECT_EQ(read_file(path("many.csv")), read_file(path("one.csv")));
 }
 
+// CLI11 stored a count too large for its variable clamped: 2^64 samples ran as 2^64 - 1 and exited 0.
+TEST_F(Cli, CountsTooLargeForTheirVariableAreUsageErrors) {
+  const RunResult samples = run("sample @icosphere:1 -k 18446744073709551616");
+  expect_error(samples, 1, "--count");
+  expect_error(samples, 1, "'18446744073709551616' is not a whole number from 0 to 18446744073709551615");
+  expect_error(run("distance @icosphere:1 --source 0 --threads 4294967296"), 1, "--threads");
+  expect_error(run("matrix @icosphere:1 --sources 0 --threads 4294967296 --out " + arg("m.npy")), 1, "--threads");
+}
+
 }  // namespace
