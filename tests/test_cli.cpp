@@ -413,6 +413,8 @@ TEST_F(Cli, SourceOutOfRangeIsInvalidInput) {
 
 TEST_F(Cli, BuiltinParameterOutOfRangeIsInvalidInput) {
   expect_error(run("info @grid:0:4"), 2, "grid");
+  // Level 14 was accepted and grew until memory ran out: its faces do not fit 32-bit indices.
+  expect_error(run("info @icosphere:14"), 2, "icosphere subdivisions 14 out of range (0 to 13");
 }
 
 TEST_F(Cli, UsageErrors) {

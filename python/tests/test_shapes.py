@@ -53,7 +53,8 @@ def test_subdivision_keeps_the_surface_and_the_original_vertices():
 @pytest.mark.parametrize(
     ("call", "message"),
     [
-        (lambda: exactgeo.make_icosphere(-1), r"icosphere subdivisions -1 out of range \(0 to 14\)"),
+        (lambda: exactgeo.make_icosphere(-1), r"icosphere subdivisions -1 out of range \(0 to 13"),
+        (lambda: exactgeo.make_icosphere(14), r"icosphere subdivisions 14 out of range \(0 to 13: 20 \* 4\^K faces"),
         (lambda: exactgeo.make_bumpy_torus(2, 8), r"bumpy torus needs at least 3 segments each way \(got 2 x 8\)"),
         (lambda: exactgeo.make_grid(0, 3, 1.0, 1.0), "grid needs at least 1 x 1 squares"),
         (lambda: exactgeo.subdivide_midpoint([[0, 0, 0]], [[0, 0, 1]]), "subdivide_midpoint: face 0 vertex index 1"),
