@@ -139,6 +139,9 @@ long long label_value(std::uint32_t label);
 using Rows = std::vector<std::pair<std::string, std::string>>;
 void print_table(const Rows& rows);
 
+// The text of a JSON output, indented. JSON holds text only: a string that is not UTF-8 (a file name in
+// another encoding) gets U+FFFD in place of its invalid bytes, and a warning on stderr says so.
+std::string json_text(const nlohmann::ordered_json& json);
 void write_json(const std::string& path, const nlohmann::ordered_json& json);
 
 }  // namespace exactgeo::cli

@@ -1068,4 +1068,20 @@ TEST_F(Cli, CountsTooLargeForTheirVariableAreUsageErrors) {
   expect_error(run("matrix @icosphere:1 --sources 0 --threads 4294967296 --out " + arg("m.npy")), 1, "--threads");
 }
 
+// info --json and --stats exited 3: nlohmann::json refuses to write a string that is not UTF-8, as a file name
+// may be.
+TEST_F(Cli, JsonOutputsTakeFileNamesThatAreNotUtf8) {
+  write_file(path("seam-\xff.obj"), kSeamObj);
+  const std::string replaced = path("seam-\xef\xbf\xbd.obj").string();  // U+FFFD in place of the byte
+  const RunResult info = run("info --json " + arg("seam-\xff.obj"));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["mesh"], replaced);
+  EXPECT_NE(info.err.find("not UTF-8 has U+FFFD in place of its invalid bytes"), std::string::npos) << info.err;
+  const RunResult distance =
+      run("distance " + arg("seam-\xff.obj") + " --source 0 --weld --out " + arg("d.txt") + " --stats " + arg("s.json"));
+  ASSERT_EQ(distance.exit_code, 0) << distance.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(path("s.json")))["mesh"], replaced);
+  EXPECT_NE(distance.err.find("U+FFFD"), std::string::npos) << distance.err;
+}
+
 }  // namespace
