@@ -1,6 +1,7 @@
 // exactgeo distance: geodesic distance from sources to every vertex (and to targets), written per vertex and
 // per target, with statistics as JSON and a summary on stdout.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string_view>
+#include <utility>
 
 #include "command.hpp"
 #include "inputs.hpp"
@@ -268,8 +270,17 @@ Command add_distance_command(CLI::App& app) {
   add_threads_option(*command, a.threads);
   command->add_flag("--quiet", a.quiet, "No progress line on stderr");
   a.mesh.checks.push_back([&a] {
-    if (a.out == kStdout && a.target_out == kStdout)
-      throw CLI::ValidationError("--target-out", "--out and --target-out cannot both be - (standard output)");
+    const std::array<std::pair<const char*, const std::string*>, 3> outputs = {
+        {{"--out", &a.out}, {"--target-out", &a.target_out}, {"--stats", &a.stats}}};
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+        const std::string &first = *outputs[i].second, &second = *outputs[j].second;
+        if (!first.empty() && !second.empty() && same_output(first, second))
+          throw CLI::ValidationError(outputs[j].first, std::string(outputs[i].first) + " and " + outputs[j].first +
+                                                           " both write to '" + second + "'" +
+                                                           (first == second ? "" : " ('" + first + "')") +
+                                                           ": give each its own file");
+      }
   });
   command->footer(kExitCodesHelp);
   return {command, [arguments] { return run_distance(*arguments); }};

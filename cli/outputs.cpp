@@ -301,4 +301,15 @@ void write_json(const std::string& path, const nlohmann::ordered_json& json) {
   write_file(path, [&](std::FILE* file) { std::fwrite(text.data(), 1, text.size(), file); });
 }
 
+bool same_output(const std::string& first, const std::string& second) {
+  if (first == second) return true;
+  if (first == kStdout || second == kStdout) return false;
+  const std::filesystem::path a = output_target(first).path, b = output_target(second).path;
+  std::error_code error_a, error_b;
+  if (std::filesystem::equivalent(a, b, error_a)) return true;  // both exist: one file
+  const std::filesystem::path canonical_a = std::filesystem::weakly_canonical(a, error_a),
+                              canonical_b = std::filesystem::weakly_canonical(b, error_b);
+  return !error_a && !error_b && canonical_a == canonical_b;
+}
+
 }  // namespace exactgeo::cli

@@ -1084,4 +1084,45 @@ TEST_F(Cli, JsonOutputsTakeFileNamesThatAreNotUtf8) {
   EXPECT_NE(distance.err.find("U+FFFD"), std::string::npos) << distance.err;
 }
 
+// --out d.csv --target-out d.csv kept one of the two files, without a word.
+TEST_F(Cli, OutputsNamingOneFileAreUsageErrors) {
+  const std::string run_with = "distance @icosphere:1 --source 0 --targets 3 ";
+  expect_error(run(run_with + "--out " + arg("d.csv") + " --target-out " + arg("d.csv")), 1,
+               "--out and --target-out both write to");
+  expect_error(run(run_with + "--out " + arg("d.csv") + " --stats " + arg("d.csv")), 1, "--out and --stats both write to");
+  expect_error(run(run_with + "--target-out " + arg("d.csv") + " --stats '" + (path(".") / "d.csv").string() + "'"), 1,
+               "--target-out and --stats both write to");
+  fs::create_symlink("d.csv", path("link.csv"));  // to a file not written yet
+  expect_error(run(run_with + "--out " + arg("link.csv") + " --stats " + arg("d.csv")), 1, "both write to");
+  write_file(path("d.csv"), "kept\n");
+  fs::create_hard_link(path("d.csv"), path("hard.csv"));
+  expect_error(run(run_with + "--out " + arg("hard.csv") + " --target-out " + arg("d.csv")), 1, "both write to");
+  EXPECT_EQ(read_file(path("d.csv")), "kept\n");
+  EXPECT_EQ(run(run_with + "--out " + arg("d.csv") + " --target-out " + arg("t.csv")).exit_code, 0);
+}
+
+// A FIFO given as --out was replaced by a regular file, and so was a symbolic link, rather than written to.
+TEST_F(Cli, OutputsGoIntoFifosAndThroughLinks) {
+  ASSERT_EQ(run("distance @icosphere:1 --source 3 --out " + arg("expected.csv")).exit_code, 0);
+  const std::string expected = read_file(path("expected.csv"));
+
+  ASSERT_EQ(::mkfifo(path("pipe.csv").c_str(), 0600), 0);
+  // The reader gives up after a while: a FIFO that nobody writes to would otherwise hold the test forever.
+  const std::string command = "timeout 60 cat " + arg("pipe.csv") + " >" + arg("from-pipe.csv") + " & '" EXACTGEO_CLI_PATH
+                              "' distance @icosphere:1 --source 3 --out " + arg("pipe.csv") +
+                              " 2>" + arg("err.txt") + "; code=$?; wait; exit $code";
+  const int status = std::system(command.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(path("err.txt"));
+  EXPECT_TRUE(fs::is_fifo(path("pipe.csv")));
+  EXPECT_EQ(read_file(path("from-pipe.csv")), expected);
+
+  fs::create_directory(path("real"));
+  fs::create_symlink("real/d.csv", path("link.csv"));  // to a file not written yet
+  for (int pass = 0; pass < 2; ++pass) {  // then over the file written the first time
+    ASSERT_EQ(run("distance @icosphere:1 --source 3 --out " + arg("link.csv")).exit_code, 0);
+    EXPECT_TRUE(fs::is_symlink(path("link.csv"))) << "pass " << pass;
+    EXPECT_EQ(read_file(path("real/d.csv")), expected) << "pass " << pass;
+  }
+}
+
 }  // namespace
