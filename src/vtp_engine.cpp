@@ -138,6 +138,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
     pool_asked_ = wanted;
   }
   const unsigned threads = wanted > 1 ? pool_->threads() : 1;  // fewer if the system would not start them all
+  stats_.threads = threads;
   lists_.reset(mesh_.halfedges.size(), threads, [&](std::size_t count, const auto& clear) {
     if (threads == 1) return clear(0, count);
     pool_->run(threads, [&](std::size_t part, unsigned) { clear(count * part / threads, count * (part + 1) / threads); });

@@ -1125,4 +1125,26 @@ TEST_F(Cli, OutputsGoIntoFifosAndThroughLinks) {
   }
 }
 
+// --algorithm ftp --threads 4 reported 4 threads, in the summary and --stats, while it ran on one.
+TEST_F(Cli, SummaryAndStatsGiveTheThreadsTheRunShared) {
+  const RunResult ftp =
+      run("distance @icosphere:2 --source 0 --quiet --algorithm ftp --threads 4 --stats " + arg("f.json"));
+  ASSERT_EQ(ftp.exit_code, 0) << ftp.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(path("f.json")))["threads"], 1);
+  // The summary's row: the name, spaces to align the values, the value.
+  std::istringstream summary(ftp.out);
+  std::string row;
+  while (std::getline(summary, row) && !row.starts_with("threads ")) {
+  }
+  ASSERT_TRUE(row.starts_with("threads ")) << ftp.out;
+  EXPECT_EQ(row.substr(row.find_first_not_of(' ', std::string_view("threads").size())), "1") << ftp.out;
+  EXPECT_NE(ftp.err.find("note: the run used 1 of the 4 threads asked for: the face-sorted variants"), std::string::npos)
+      << ftp.err;
+
+  const RunResult vtp = run("distance @icosphere:2 --source 0 --quiet --threads 2 --stats " + arg("v.json"));
+  ASSERT_EQ(vtp.exit_code, 0) << vtp.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(path("v.json")))["threads"], 2);
+  EXPECT_EQ(vtp.err, "");
+}
+
 }  // namespace

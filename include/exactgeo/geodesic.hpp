@@ -103,6 +103,7 @@ struct GeodesicStats {
   std::uint64_t parallel_bands = 0;
   std::uint64_t parallel_critical_path = 0;
   std::uint64_t parallel_crossings = 0;
+  unsigned threads = 0;
   double propagation_seconds = 0.0;
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
@@ -142,6 +143,9 @@ constexpr void for_each_stats_field(Visit&& visit) {
         "over the bands (the steps no thread count can shorten)");
   visit("parallel_crossings", &S::parallel_crossings, count,
         "threads > 1: list crossings (parallel_crossings / parallel_critical_path: the work a step can share)");
+  visit("threads", &S::threads, count,
+        "threads the run shared: GeodesicOptions::threads, but 1 for the face-sorted variants (sequential), and "
+        "fewer where the system would not start them all");
   visit("propagation_seconds", &S::propagation_seconds, seconds, "wall time of the propagation");
   visit("window_propagation_seconds", &S::window_propagation_seconds, phase,
         "crossing window lists over triangles (0 unless collect_timings)");

@@ -31,7 +31,8 @@ class AlgorithmOptions(TypedDict, total=False):
     rule23: bool  # paper Sections 4.2-4.3: pairwise checks between neighbouring windows
     collect_timings: bool  # split propagation_seconds in `stats` into its phases (slows the run down by up to 60%)
     # threads sharing one run (0: one per core). Default: one per 10,000 faces, up to one per core (1 below
-    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14. In
+    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14.
+    # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared. In
     # distance_matrix and farthest_point_sampling, `threads` spreads the sources over threads instead.
     threads: int
 

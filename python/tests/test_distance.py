@@ -387,3 +387,11 @@ def test_targets_beyond_the_cut_off_are_inf_or_exact():
     np.testing.assert_array_equal(exactgeo.distance(mesh, 0, targets=targets, targets_beyond="exact"), truth)
     with pytest.raises(ValueError, match="targets_beyond must be 'inf' or 'exact', not 'all'"):
         exactgeo.distance(mesh, 0, targets=targets, max_distance=cutoff, targets_beyond="all")
+
+
+def test_stats_give_the_threads_a_run_shared(sheet):
+    # The face-sorted variants are sequential, whatever the option asks for.
+    assert exactgeo.GeodesicSolver(sheet).solve(0, algorithm="ftp", threads=4).stats.threads == 1
+    assert exactgeo.GeodesicSolver(sheet).solve(0, algorithm="opftp", threads=4).stats.threads == 1
+    assert exactgeo.GeodesicSolver(sheet).solve(0, threads=2).stats.threads == 2
+    assert exactgeo.GeodesicSolver(sheet).solve(0, threads=1).stats.threads == 1
