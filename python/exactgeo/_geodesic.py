@@ -6,7 +6,7 @@ import dataclasses
 import threading
 import warnings
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, Literal, TypedDict, overload
+from typing import TYPE_CHECKING, Any, Callable, Literal, TypedDict, overload
 
 import numpy as np
 
@@ -38,6 +38,15 @@ class AlgorithmOptions(TypedDict, total=False):
 
 
 _OPTION_NAMES = frozenset(AlgorithmOptions.__annotations__)
+# Each option's checked conversion, by its type above; the library checks the values (an algorithm's name,
+# at most 1024 threads).
+_OPTION_CONVERSIONS: dict[str, Callable[[Any, str], object]] = {
+    "algorithm": _inputs.text,
+    "rule1": _inputs.flag,
+    "rule23": _inputs.flag,
+    "collect_timings": _inputs.flag,
+    "threads": _inputs.count,
+}
 
 TargetsBeyond = Literal["inf", "exact"]
 
@@ -54,7 +63,8 @@ def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _
     unknown = sorted(options.keys() - _OPTION_NAMES)
     if unknown:
         raise TypeError(f"unexpected keyword argument {unknown[0]!r} (options: {', '.join(sorted(_OPTION_NAMES))})")
-    return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **options)
+    checked = {name: _OPTION_CONVERSIONS[name](value, name) for name, value in options.items()}
+    return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **checked)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -63,3 +63,19 @@ def test_subdivision_keeps_the_surface_and_the_original_vertices():
 def test_bad_shape_parameters_raise_valueerror(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "message"),
+    [
+        (lambda: exactgeo.make_icosphere(2**40), ValueError, "subdivisions must be at most 2147483647, not 10995"),
+        (lambda: exactgeo.make_icosphere(1.5), TypeError, "subdivisions must be an integer, not 1.5"),
+        (lambda: exactgeo.make_bumpy_torus(2**40, 8), ValueError, "major_segments must be at most 2147483647"),
+        (lambda: exactgeo.make_bumpy_torus(8, "8"), TypeError, "minor_segments must be an integer, not '8'"),
+        (lambda: exactgeo.make_grid(3, -(2**40), 1.0, 1.0), ValueError, "ny must be at least -2147483648"),
+    ],
+)
+def test_shape_sizes_that_are_no_c_int_are_named(call, error, message):
+    # These printed nanobind's list of the accepted signatures.
+    with pytest.raises(error, match=message):
+        call()
