@@ -1,6 +1,7 @@
 // exactgeo distance: geodesic distance from sources to every vertex (and to targets), written per vertex and
 // per target, with statistics as JSON and a summary on stdout.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,8 @@
 #include <memory>
 #include <optional>
 #include <string_view>
+#include <thread>
+#include <utility>
 
 #include "command.hpp"
 #include "inputs.hpp"
@@ -41,6 +44,17 @@ struct Reach {
   double max_distance = 0.0;
   std::size_t unreachable = 0;
 };
+
+// --threads asked for more threads than the run shared (the summary and --stats give those it did): why.
+void note_threads_not_used(const DistanceArguments& arguments, const exactgeo::GeodesicOptions& options,
+                           const exactgeo::GeodesicStats& stats) {
+  const unsigned asked = options.threads != 0 ? options.threads : std::thread::hardware_concurrency();
+  if (!arguments.threads || stats.threads >= asked) return;
+  const bool face_sorted =
+      options.algorithm == exactgeo::Algorithm::ftp || options.algorithm == exactgeo::Algorithm::opftp;
+  std::fprintf(stderr, "exactgeo: note: the run used %u of the %u threads asked for: %s\n", stats.threads, asked,
+               face_sorted ? "the face-sorted variants (ftp, opftp) are sequential" : "the system would not start more");
+}
 
 Reach reach_of(std::span<const double> distances) {
   Reach reach;
@@ -84,7 +98,6 @@ nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const Load
   json["algorithm"] = exactgeo::algorithm_name(options.algorithm);
   json["rule1"] = options.rule1;
   json["rule23"] = options.rule23;
-  json["threads"] = options.threads;
   json["read_seconds"] = loaded.read_seconds;
   json["build_seconds"] = loaded.build_seconds;
   json["build_threads"] = loaded.mesh.build_stats().threads;
@@ -132,7 +145,6 @@ Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const
     if (!options.rule23) variant += ", Rules 2 and 3 off";
     rows.emplace_back("algorithm", variant);
   }
-  if (options.threads != 1) rows.emplace_back("threads", std::to_string(options.threads));
   if (!std::isinf(arguments.max_distance)) rows.emplace_back("cut-off", format_number("%.12g", arguments.max_distance));
   rows.emplace_back("max distance", format_number("%.12g", reach.max_distance));
   rows.emplace_back(cut_off ? "unreachable or beyond" : "unreachable", std::to_string(reach.unreachable));
@@ -190,6 +202,7 @@ int run_distance(const DistanceArguments& arguments) {
         result.distances[v] = HUGE_VAL;
         result.nearest_source[v] = exactgeo::kNoSource;
       }
+  note_threads_not_used(arguments, options, result.stats);
   const Reach reach = reach_of(result.distances);
   warn_if_seams_cut_the_surface(arguments, mesh, reach);
 
@@ -256,7 +269,8 @@ Command add_distance_command(CLI::App& app) {
   command
       ->add_option("--algorithm", a.algorithm,
                    "Variant (paper Section 5): vtp (default), opvtp (order-preserving merges), ftp (face-sorted "
-                   "wavefront), opftp. All give the same distances")
+                   "wavefront), opftp; ftp and opftp run on one thread whatever --threads. All give the same "
+                   "distances")
       ->check(CLI::IsMember(algorithm_names))
       ->type_name("NAME");
   command->add_flag("--no-rule1", a.no_rule1,
@@ -269,8 +283,17 @@ Command add_distance_command(CLI::App& app) {
   add_threads_option(*command, a.threads);
   command->add_flag("--quiet", a.quiet, "No progress line on stderr");
   a.mesh.checks.push_back([&a] {
-    if (a.out == kStdout && a.target_out == kStdout)
-      throw CLI::ValidationError("--target-out", "--out and --target-out cannot both be - (standard output)");
+    const std::array<std::pair<const char*, const std::string*>, 3> outputs = {
+        {{"--out", &a.out}, {"--target-out", &a.target_out}, {"--stats", &a.stats}}};
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+        const std::string &first = *outputs[i].second, &second = *outputs[j].second;
+        if (!first.empty() && !second.empty() && same_output(first, second))
+          throw CLI::ValidationError(outputs[j].first, std::string(outputs[i].first) + " and " + outputs[j].first +
+                                                           " both write to '" + second + "'" +
+                                                           (first == second ? "" : " ('" + first + "')") +
+                                                           ": give each its own file");
+      }
   });
   command->footer(kExitCodesHelp);
   return {command, [arguments] { return run_distance(*arguments); }};

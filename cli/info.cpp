@@ -21,7 +21,7 @@ int run_info(const InfoArguments& arguments) {
     nlohmann::ordered_json json;
     json["mesh"] = arguments.mesh.name;
     json.update(report_json(report));
-    std::printf("%s\n", json.dump(2).c_str());
+    std::printf("%s\n", json_text(json).c_str());
   } else {
     Rows rows = {{"mesh", arguments.mesh.name}};
     for (auto& row : report_rows(report)) rows.push_back(std::move(row));

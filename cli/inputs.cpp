@@ -2,7 +2,6 @@
 #include "inputs.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -245,7 +244,7 @@ void add_threads_option(CLI::App& command, std::optional<unsigned>& threads) {
                   "Threads sharing the propagation (0: one per core; default: one per 10,000 faces, up to one per "
                   "core), and reading and building the mesh (default: one per core). The distances agree with one "
                   "thread's to 1e-14 of the largest; the mesh is the same on any count")
-      ->check(count_check())
+      ->check(count_check(std::numeric_limits<unsigned>::max()))
       ->type_name("N");
 }
 
@@ -253,15 +252,17 @@ unsigned threads_for(const std::optional<unsigned>& threads, const exactgeo::Mes
   return threads ? *threads : exactgeo::recommended_threads(mesh);
 }
 
-const CLI::Validator& count_check() {
-  static const CLI::Validator check(
-      [](std::string& text) -> std::string {
-        if (text.empty() || !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
-          return "'" + text + "' is not a whole number";
+CLI::Validator count_check(std::uint64_t maximum) {
+  return CLI::Validator(
+      [maximum](std::string& text) -> std::string {
+        std::uint64_t value = 0;
+        // Digits only: from_chars takes no sign for an unsigned type.
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || ptr != text.data() + text.size() || value > maximum)
+          return "'" + text + "' is not a whole number from 0 to " + std::to_string(maximum);
         return {};
       },
       "", "count");
-  return check;
 }
 
 }  // namespace exactgeo::cli

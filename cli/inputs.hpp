@@ -92,7 +92,8 @@ unsigned threads_for(const std::optional<unsigned>& threads, const exactgeo::Mes
 
 // A check for options taking a distance: a number, not negative.
 const CLI::Validator& distance_check();
-// A check for options taking a count: digits only, so that "-1" is an error rather than a huge number.
-const CLI::Validator& count_check();
+// A check for options taking a count: digits only, so that "-1" is an error rather than a huge number, and at
+// most `maximum`, the largest value the option's variable holds (CLI11 would store a larger one clamped).
+CLI::Validator count_check(std::uint64_t maximum = std::numeric_limits<std::uint64_t>::max());
 
 }  // namespace exactgeo::cli

@@ -141,8 +141,8 @@ Command add_matrix_command(CLI::App& app) {
           ->check(distance_check())
           ->type_name("R");
   CLI::Option* threads =
-      command->add_option("--threads", arguments->threads, "Worker threads (default: one per core; never more than sources)")
-          ->check(count_check())
+      command->add_option("--threads", arguments->threads, "Worker threads (0, the default: one per core; never more than sources)")
+          ->check(count_check(std::numeric_limits<unsigned>::max()))
           ->type_name("T");
   CLI::Option* out = add_output_option(
       *command, "--out", arguments->out,

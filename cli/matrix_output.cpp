@@ -91,7 +91,7 @@ class NpzMatrixWriter final : public MatrixWriter {
         {"sources", "<i8", {sources_.size()}, little_endian_bytes(sources_)},
     };
     if (!targets_.empty()) members.push_back({"targets", "<i8", {targets_.size()}, little_endian_bytes(targets_)});
-    write_npz(output_.temporary_path(), members);
+    write_npz(output_.writing_path(), members);
     output_.commit();
   }
 

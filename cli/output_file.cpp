@@ -18,6 +18,9 @@ namespace {
 
 exactgeo::Error io_error(const std::string& message) { return exactgeo::Error(exactgeo::ErrorCode::io_error, message); }
 
+// Links followed at most, as Linux's path resolution allows (ELOOP beyond).
+constexpr int kMaxLinkHops = 40;
+
 // The temporary files of the outputs being written, for the interrupt handler to remove: slots that hold a
 // path or null, so that the handler only reads atomics and calls unlink (both async-signal-safe). A command
 // writes a handful of files at most; one beyond the slots is simply not cleaned up on an interrupt.
@@ -48,20 +51,40 @@ extern "C" void remove_unfinished_outputs_and_stop(int signal_number) {
 
 }  // namespace
 
+OutputTarget output_target(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);  // through links
+  if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status)) return {path, true};
+  // Followed hop by hop rather than by canonical(), which fails on a link to a file not written yet.
+  fs::path target(path);
+  for (int hop = 0; hop < kMaxLinkHops && fs::is_symlink(fs::symlink_status(target, error)); ++hop) {
+    const fs::path next = fs::read_symlink(target, error);
+    if (error) break;
+    target = next.is_absolute() ? next : target.parent_path() / next;
+  }
+  return {target, false};
+}
+
 OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
   if (path_ == kStdout) {
     stream_ = stdout;
     return;
   }
+  const OutputTarget target = output_target(path_);
+  if (target.special) {
+    writing_ = path_;
+    return;
+  }
+  destination_ = target.path.string();
   // Beside the destination, so that the rename stays on one file system; hidden, and named as unfinished.
-  const std::filesystem::path destination(path_);
-  temporary_ = (destination.parent_path() / ("." + destination.filename().string() + ".partial-XXXXXX")).string();
+  writing_ = (target.path.parent_path() / ("." + target.path.filename().string() + ".partial-XXXXXX")).string();
   // Tracked before it exists: mkstemp fills in the name in place, so a signal at any moment finds the file
   // it created (or none yet).
-  track_unfinished(temporary_.c_str());
-  const int descriptor = ::mkstemp(temporary_.data());
+  track_unfinished(writing_.c_str());
+  const int descriptor = ::mkstemp(writing_.data());
   if (descriptor < 0) {
-    forget_unfinished(temporary_.c_str());
+    forget_unfinished(writing_.c_str());
     throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
   }
   // mkstemp makes the file private (0600); an output gets the permissions a new file would have.
@@ -74,13 +97,14 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
 OutputFile::~OutputFile() {
   if (path_ == kStdout) return;
   if (stream_) std::fclose(stream_);
-  if (!committed_) std::remove(temporary_.c_str());
-  forget_unfinished(temporary_.c_str());
+  if (destination_.empty()) return;
+  if (!committed_) std::remove(writing_.c_str());
+  forget_unfinished(writing_.c_str());
 }
 
 std::FILE* OutputFile::stream() {
   if (!stream_) {
-    stream_ = std::fopen(temporary_.c_str(), "wb");
+    stream_ = std::fopen(writing_.c_str(), "wb");
     if (!stream_) throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
   }
   return stream_;
@@ -99,7 +123,7 @@ void OutputFile::commit() {
     stream_ = nullptr;
     if (failed || !closed) throw io_error("error writing '" + path_ + "': " + std::strerror(errno));
   }
-  if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
+  if (!destination_.empty() && std::rename(writing_.c_str(), destination_.c_str()) != 0)
     throw io_error("cannot write '" + path_ + "': " + std::strerror(errno));
   committed_ = true;
 }

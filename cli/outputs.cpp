@@ -14,6 +14,9 @@
 namespace exactgeo::cli {
 namespace {
 
+// nlohmann::json's error id for a string that is not UTF-8.
+constexpr int kJsonInvalidUtf8 = 316;
+
 // --- Values per vertex or per target -------------------------------------------------------------------
 
 void write_values_txt(std::FILE* file, const Values& values) {
@@ -204,7 +207,7 @@ void write_path_json(std::FILE* file, const exactgeo::GeodesicPath& path) {
     locations.push_back(item);
   }
   json["locations"] = locations;
-  const std::string text = json.dump(2) + "\n";
+  const std::string text = json_text(json) + "\n";
   std::fwrite(text.data(), 1, text.size(), file);
 }
 
@@ -282,9 +285,31 @@ void print_table(const Rows& rows) {
   for (const auto& [name, value] : rows) std::printf("%-*s  %s\n", int(width), name.c_str(), value.c_str());
 }
 
+std::string json_text(const nlohmann::ordered_json& json) {
+  try {
+    return json.dump(2);
+  } catch (const nlohmann::ordered_json::type_error& e) {
+    if (e.id != kJsonInvalidUtf8) throw;
+  }
+  std::fprintf(stderr,
+               "exactgeo: warning: JSON output: a name that is not UTF-8 has U+FFFD in place of its invalid bytes\n");
+  return json.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
 void write_json(const std::string& path, const nlohmann::ordered_json& json) {
-  const std::string text = json.dump(2) + "\n";
+  const std::string text = json_text(json) + "\n";
   write_file(path, [&](std::FILE* file) { std::fwrite(text.data(), 1, text.size(), file); });
+}
+
+bool same_output(const std::string& first, const std::string& second) {
+  if (first == second) return true;
+  if (first == kStdout || second == kStdout) return false;
+  const std::filesystem::path a = output_target(first).path, b = output_target(second).path;
+  std::error_code error_a, error_b;
+  if (std::filesystem::equivalent(a, b, error_a)) return true;  // both exist: one file
+  const std::filesystem::path canonical_a = std::filesystem::weakly_canonical(a, error_a),
+                              canonical_b = std::filesystem::weakly_canonical(b, error_b);
+  return !error_a && !error_b && canonical_a == canonical_b;
 }
 
 }  // namespace exactgeo::cli

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <span>
@@ -54,10 +55,19 @@ std::pair<std::string, std::string> format_names(std::span<const Format<Writer>>
   return {"FILE.{" + braces + "}" + (to_stdout ? "|-" : ""), sentence + (to_stdout ? " (or - for CSV on stdout)" : "")};
 }
 
-// An output file that appears only when complete: written to a temporary file beside its destination and
-// renamed over it by commit(). A run that fails or is interrupted leaves an existing file as it was, and
-// never a truncated file that would load as a result. Every failure is an io_error naming the file.
-// The path "-" is standard output, written directly (commit() flushes it).
+// Where an output's bytes go. Through a symbolic link, to the file it names (the link stays, as a shell's >
+// leaves it). A special file (a FIFO, a terminal, /dev/null) is written into directly: a file renamed over it
+// would replace it rather than feed it, and it cannot hold a result half-written anyway.
+struct OutputTarget {
+  std::filesystem::path path;
+  bool special;
+};
+OutputTarget output_target(const std::string& path);
+
+// An output file that appears only when complete: written to a temporary file beside its destination
+// (output_target) and renamed over it by commit(). A run that fails or is interrupted leaves an existing file
+// as it was, and never a truncated file that would load as a result. Every failure is an io_error naming the
+// file. The path "-" is standard output, and a special file is written directly (commit() flushes it).
 class OutputFile {
  public:
   explicit OutputFile(std::string path);
@@ -65,13 +75,15 @@ class OutputFile {
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
 
-  std::FILE* stream();  // the temporary file, opened on first use
+  std::FILE* stream();  // the file being written, opened on first use
   // For writers that open the file themselves (the .npz archive): write here, then commit().
-  const std::string& temporary_path() const { return temporary_; }
+  const std::string& writing_path() const { return writing_; }
   void commit();
 
  private:
-  std::string path_, temporary_;
+  std::string path_;         // as given, for messages
+  std::string writing_;      // the temporary file, or the special file itself
+  std::string destination_;  // what the temporary file is renamed to; empty when written directly
   std::FILE* stream_ = nullptr;
   bool committed_ = false;
 };
@@ -139,6 +151,13 @@ long long label_value(std::uint32_t label);
 using Rows = std::vector<std::pair<std::string, std::string>>;
 void print_table(const Rows& rows);
 
+// The text of a JSON output, indented. JSON holds text only: a string that is not UTF-8 (a file name in
+// another encoding) gets U+FFFD in place of its invalid bytes, and a warning on stderr says so.
+std::string json_text(const nlohmann::ordered_json& json);
 void write_json(const std::string& path, const nlohmann::ordered_json& json);
+
+// Whether two output arguments reach the same file, however spelled (./x, a link, a hard link): written
+// one after the other, the second would replace the first without a word.
+bool same_output(const std::string& first, const std::string& second);
 
 }  // namespace exactgeo::cli

@@ -140,7 +140,7 @@ void write_whole(const fs::path& path, std::span<const unsigned char> bytes) {
 }
 
 void write_json_whole(const fs::path& path, const Json& json) {
-  const std::string text = json.dump(2);
+  const std::string text = json_text(json);
   write_whole(path, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
 }
 

@@ -52,11 +52,10 @@ void project_to_unit_sphere(std::vector<double>& positions, std::size_t first_ve
 }  // namespace
 
 MeshSoup make_icosphere(int subdivisions) {
-  // 10 * 4^k + 2 vertices: k = 14 is the last level whose indices fit in 32 bits.
-  constexpr int kMaxSubdivisions = 14;
-  if (subdivisions < 0 || subdivisions > kMaxSubdivisions) {
-    throw Error(ErrorCode::invalid_argument, "icosphere subdivisions " + std::to_string(subdivisions) +
-                                                 " out of range (0 to " + std::to_string(kMaxSubdivisions) + ")");
+  if (subdivisions < 0 || subdivisions > kMaxIcosphereSubdivisions) {
+    throw Error(ErrorCode::invalid_argument,
+                "icosphere subdivisions " + std::to_string(subdivisions) + " out of range (0 to " +
+                    std::to_string(kMaxIcosphereSubdivisions) + ": 20 * 4^K faces must fit 32-bit face indices)");
   }
 
   // The icosahedron's vertices are the corners of three orthogonal golden rectangles.

@@ -434,6 +434,8 @@ TEST_F(Cli, SourceOutOfRangeIsInvalidInput) {
 
 TEST_F(Cli, BuiltinParameterOutOfRangeIsInvalidInput) {
   expect_error(run("info @grid:0:4"), 2, "grid");
+  // Level 14 was accepted and grew until memory ran out: its faces do not fit 32-bit indices.
+  expect_error(run("info @icosphere:14"), 2, "icosphere subdivisions 14 out of range (0 to 13");
 }
 
 TEST_F(Cli, UsageErrors) {
@@ -1076,6 +1078,94 @@ TEST_F(Cli, RunsGoOnWithTheThreadsTheSystemStarts) {
   EXPECT_EQ(limited("matrix @grid:30:30 --sources 0 5 --threads 64 --out " + arg("many.csv")), 0)
       << read_file(path("limited.err"));
   EXPECT_EQ(read_file(path("many.csv")), read_file(path("one.csv")));
+}
+
+// CLI11 stored a count too large for its variable clamped: 2^64 samples ran as 2^64 - 1 and exited 0.
+TEST_F(Cli, CountsTooLargeForTheirVariableAreUsageErrors) {
+  const RunResult samples = run("sample @icosphere:1 -k 18446744073709551616");
+  expect_error(samples, 1, "--count");
+  expect_error(samples, 1, "'18446744073709551616' is not a whole number from 0 to 18446744073709551615");
+  expect_error(run("distance @icosphere:1 --source 0 --threads 4294967296"), 1, "--threads");
+  expect_error(run("matrix @icosphere:1 --sources 0 --threads 4294967296 --out " + arg("m.npy")), 1, "--threads");
+}
+
+// info --json and --stats exited 3: nlohmann::json refuses to write a string that is not UTF-8, as a file name
+// may be.
+TEST_F(Cli, JsonOutputsTakeFileNamesThatAreNotUtf8) {
+  write_file(path("seam-\xff.obj"), kSeamObj);
+  const std::string replaced = path("seam-\xef\xbf\xbd.obj").string();  // U+FFFD in place of the byte
+  const RunResult info = run("info --json " + arg("seam-\xff.obj"));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["mesh"], replaced);
+  EXPECT_NE(info.err.find("not UTF-8 has U+FFFD in place of its invalid bytes"), std::string::npos) << info.err;
+  const RunResult distance =
+      run("distance " + arg("seam-\xff.obj") + " --source 0 --weld --out " + arg("d.txt") + " --stats " + arg("s.json"));
+  ASSERT_EQ(distance.exit_code, 0) << distance.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(path("s.json")))["mesh"], replaced);
+  EXPECT_NE(distance.err.find("U+FFFD"), std::string::npos) << distance.err;
+}
+
+// --out d.csv --target-out d.csv kept one of the two files, without a word.
+TEST_F(Cli, OutputsNamingOneFileAreUsageErrors) {
+  const std::string run_with = "distance @icosphere:1 --source 0 --targets 3 ";
+  expect_error(run(run_with + "--out " + arg("d.csv") + " --target-out " + arg("d.csv")), 1,
+               "--out and --target-out both write to");
+  expect_error(run(run_with + "--out " + arg("d.csv") + " --stats " + arg("d.csv")), 1, "--out and --stats both write to");
+  expect_error(run(run_with + "--target-out " + arg("d.csv") + " --stats '" + (path(".") / "d.csv").string() + "'"), 1,
+               "--target-out and --stats both write to");
+  fs::create_symlink("d.csv", path("link.csv"));  // to a file not written yet
+  expect_error(run(run_with + "--out " + arg("link.csv") + " --stats " + arg("d.csv")), 1, "both write to");
+  write_file(path("d.csv"), "kept\n");
+  fs::create_hard_link(path("d.csv"), path("hard.csv"));
+  expect_error(run(run_with + "--out " + arg("hard.csv") + " --target-out " + arg("d.csv")), 1, "both write to");
+  EXPECT_EQ(read_file(path("d.csv")), "kept\n");
+  EXPECT_EQ(run(run_with + "--out " + arg("d.csv") + " --target-out " + arg("t.csv")).exit_code, 0);
+}
+
+// A FIFO given as --out was replaced by a regular file, and so was a symbolic link, rather than written to.
+TEST_F(Cli, OutputsGoIntoFifosAndThroughLinks) {
+  ASSERT_EQ(run("distance @icosphere:1 --source 3 --out " + arg("expected.csv")).exit_code, 0);
+  const std::string expected = read_file(path("expected.csv"));
+
+  ASSERT_EQ(::mkfifo(path("pipe.csv").c_str(), 0600), 0);
+  // The reader gives up after a while: a FIFO that nobody writes to would otherwise hold the test forever.
+  const std::string command = "timeout 60 cat " + arg("pipe.csv") + " >" + arg("from-pipe.csv") + " & '" EXACTGEO_CLI_PATH
+                              "' distance @icosphere:1 --source 3 --out " + arg("pipe.csv") +
+                              " 2>" + arg("err.txt") + "; code=$?; wait; exit $code";
+  const int status = std::system(command.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(path("err.txt"));
+  EXPECT_TRUE(fs::is_fifo(path("pipe.csv")));
+  EXPECT_EQ(read_file(path("from-pipe.csv")), expected);
+
+  fs::create_directory(path("real"));
+  fs::create_symlink("real/d.csv", path("link.csv"));  // to a file not written yet
+  for (int pass = 0; pass < 2; ++pass) {  // then over the file written the first time
+    ASSERT_EQ(run("distance @icosphere:1 --source 3 --out " + arg("link.csv")).exit_code, 0);
+    EXPECT_TRUE(fs::is_symlink(path("link.csv"))) << "pass " << pass;
+    EXPECT_EQ(read_file(path("real/d.csv")), expected) << "pass " << pass;
+  }
+}
+
+// --algorithm ftp --threads 4 reported 4 threads, in the summary and --stats, while it ran on one.
+TEST_F(Cli, SummaryAndStatsGiveTheThreadsTheRunShared) {
+  const RunResult ftp =
+      run("distance @icosphere:2 --source 0 --quiet --algorithm ftp --threads 4 --stats " + arg("f.json"));
+  ASSERT_EQ(ftp.exit_code, 0) << ftp.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(path("f.json")))["threads"], 1);
+  // The summary's row: the name, spaces to align the values, the value.
+  std::istringstream summary(ftp.out);
+  std::string row;
+  while (std::getline(summary, row) && !row.starts_with("threads ")) {
+  }
+  ASSERT_TRUE(row.starts_with("threads ")) << ftp.out;
+  EXPECT_EQ(row.substr(row.find_first_not_of(' ', std::string_view("threads").size())), "1") << ftp.out;
+  EXPECT_NE(ftp.err.find("note: the run used 1 of the 4 threads asked for: the face-sorted variants"), std::string::npos)
+      << ftp.err;
+
+  const RunResult vtp = run("distance @icosphere:2 --source 0 --quiet --threads 2 --stats " + arg("v.json"));
+  ASSERT_EQ(vtp.exit_code, 0) << vtp.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(path("v.json")))["threads"], 2);
+  EXPECT_EQ(vtp.err, "");
 }
 
 }  // namespace

@@ -155,6 +155,18 @@ TEST(ShapesIcosphere, RejectsNegativeSubdivisions) {
   }
 }
 
+// Level 14 was accepted: its 5.4 billion faces do not fit 32-bit face indices, and it ran until memory ran out.
+TEST(ShapesIcosphere, RejectsLevelsWhoseFacesDoNotFit32BitIndices) {
+  try {
+    exactgeo::make_icosphere(exactgeo::kMaxIcosphereSubdivisions + 1);
+    FAIL() << "expected exactgeo::Error";
+  } catch (const exactgeo::Error& e) {
+    EXPECT_EQ(e.code(), exactgeo::ErrorCode::invalid_argument);
+    EXPECT_NE(std::string(e.what()).find("icosphere subdivisions 14 out of range (0 to 13"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ShapesTorus, CountsAndEulerCharacteristic) {
   for (const auto& [nu, nv] : {std::pair{3, 3}, std::pair{64, 36}, std::pair{10, 7}}) {
     const MeshSoup soup = exactgeo::make_bumpy_torus(nu, nv);

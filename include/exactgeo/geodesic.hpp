@@ -104,6 +104,7 @@ struct GeodesicStats {
   std::uint64_t parallel_critical_path = 0;
   std::uint64_t list_crossings = 0;
   std::uint64_t parallel_lock_waits = 0;
+  unsigned threads = 0;
   double propagation_seconds = 0.0;
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
@@ -163,6 +164,9 @@ constexpr void for_each_stats_field(Visit&& visit) {
         "the work a step can share");
   visit("parallel_lock_waits", &S::parallel_lock_waits, count,
         "threads > 1: times a thread found a face's or a vertex's lock taken and waited");
+  visit("threads", &S::threads, count,
+        "threads the run shared: GeodesicOptions::threads, but 1 for the face-sorted variants (sequential), and "
+        "fewer where the system would not start them all");
   visit("propagation_seconds", &S::propagation_seconds, seconds, "wall time of the propagation");
   visit("window_propagation_seconds", &S::window_propagation_seconds, phase,
         "crossing window lists over triangles (0 unless collect_timings)");

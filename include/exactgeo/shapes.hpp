@@ -8,8 +8,12 @@
 
 namespace exactgeo {
 
+// The most subdivisions of an icosphere: 20 * 4^13 = 1.3 billion faces, the last level whose faces fit 32-bit
+// face indices (level 14 would have 5.4 billion). Memory grows fourfold with each level.
+inline constexpr int kMaxIcosphereSubdivisions = 13;
+
 // Icosahedron with each face split 1-to-4 `subdivisions` times, vertices projected to the unit sphere.
-// 20 * 4^subdivisions faces.
+// 20 * 4^subdivisions faces. Throws exactgeo::Error(invalid_argument) outside 0 to kMaxIcosphereSubdivisions.
 EXACTGEO_API MeshSoup make_icosphere(int subdivisions);
 
 // Torus (major radius 1, minor radius 0.35) whose tube radius is modulated by bumps, with

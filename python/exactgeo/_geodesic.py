@@ -6,7 +6,7 @@ import dataclasses
 import threading
 import warnings
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, Literal, TypedDict, overload
+from typing import TYPE_CHECKING, Any, Callable, Literal, TypedDict, overload
 
 import numpy as np
 
@@ -31,12 +31,22 @@ class AlgorithmOptions(TypedDict, total=False):
     rule23: bool  # paper Sections 4.2-4.3: pairwise checks between neighbouring windows
     collect_timings: bool  # split propagation_seconds in `stats` into its phases (slows the run down by up to 60%)
     # threads sharing one run (0: one per core). Default: one per 10,000 faces, up to one per core (1 below
-    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14. In
+    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14.
+    # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared. In
     # distance_matrix and farthest_point_sampling, `threads` spreads the sources over threads instead.
     threads: int
 
 
 _OPTION_NAMES = frozenset(AlgorithmOptions.__annotations__)
+# Each option's checked conversion, by its type above; the library checks the values (an algorithm's name,
+# at most 1024 threads).
+_OPTION_CONVERSIONS: dict[str, Callable[[Any, str], object]] = {
+    "algorithm": _inputs.text,
+    "rule1": _inputs.flag,
+    "rule23": _inputs.flag,
+    "collect_timings": _inputs.flag,
+    "threads": _inputs.count,
+}
 
 TargetsBeyond = Literal["inf", "exact"]
 
@@ -53,7 +63,8 @@ def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _
     unknown = sorted(options.keys() - _OPTION_NAMES)
     if unknown:
         raise TypeError(f"unexpected keyword argument {unknown[0]!r} (options: {', '.join(sorted(_OPTION_NAMES))})")
-    return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **options)
+    checked = {name: _OPTION_CONVERSIONS[name](value, name) for name, value in options.items()}
+    return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **checked)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,17 +1,20 @@
-"""Checked conversion of what callers pass into the exact arrays exactgeo._core takes.
+"""Checked conversion of what callers pass into the exact arrays and values exactgeo._core takes.
 
 Only what a conversion itself could lose is checked here: a shape other than the one asked for, booleans or
-non-numbers where numbers belong, a float index that is not a whole number, an index that does not fit the
-library's 32-bit indices. The values themselves (finite coordinates, indices in range, barycentric
-coordinates, options) are checked by the library, so Python, C++ and the command line give the same message
-for the same mistake. The few messages written here for values the library cannot even receive (negative
-indices) follow the library's wording.
+non-numbers where numbers belong, anything but True or False where a flag belongs, a float index that is not
+a whole number, an index or a count that does not fit the library's integer types. Each entry point converts
+through these helpers, so the same mistake gets the same message wherever it is made. The values themselves
+(finite coordinates, indices in range, barycentric coordinates, options) are checked by the library, so
+Python, C++ and the command line give the same message for the same mistake. The few messages written here
+for values the library cannot even receive (negative indices) follow the library's wording.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
 import operator
+import os
 from typing import Callable
 
 import numpy as np
@@ -141,11 +144,14 @@ def vertex_array(vertices: object, vertex_count: int, what: str, name: Callable[
 
 
 def count(value: int, what: str, minimum: int = 0, maximum: int = INDEX_LIMIT - 1) -> int:
-    """A whole number of things (samples, threads, a target's number), from `minimum` to `maximum`."""
+    """A whole number of things (samples, threads, a target's number), from `minimum` to `maximum`: the
+    default range is the library's unsigned 32-bit one. A bool is refused, not counted as 0 or 1."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{what} must be an integer, not {value!r}")
     try:
         number = operator.index(value)
     except TypeError:
-        raise ValueError(f"{what} must be an integer, not {value!r}") from None
+        raise TypeError(f"{what} must be an integer, not {value!r}") from None
     if number < minimum:
         raise ValueError(f"{what} must be at least {minimum}, not {number}")
     if number > maximum:
@@ -153,9 +159,43 @@ def count(value: int, what: str, minimum: int = 0, maximum: int = INDEX_LIMIT - 
     return number
 
 
+def c_int(value: int, what: str) -> int:
+    """An integer the library takes as a C int (a shape's size): only the range of the type is checked here,
+    the library checks the value."""
+    return count(value, what, minimum=-(2**31), maximum=2**31 - 1)
+
+
+def flag(value: object, what: str) -> bool:
+    """True or False (numpy's too). Anything else is refused rather than taken for its truth value, which
+    would read "no" and "False" as true."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise TypeError(f"{what} must be True or False, not {value!r}")
+
+
+def text(value: object, what: str) -> str:
+    """A str, such as a name the library looks up."""
+    if isinstance(value, str):
+        return value
+    raise TypeError(f"{what} must be a string, not {value!r}")
+
+
 def cutoff(max_distance: float | None) -> float:
     """None means no cut-off; the library checks that a given one is not negative or NaN."""
-    return math.inf if max_distance is None else float(max_distance)
+    if max_distance is None:
+        return math.inf
+    if isinstance(max_distance, (bool, np.bool_)) or not isinstance(max_distance, numbers.Real):
+        raise TypeError(f"max_distance must be a number or None, not {max_distance!r}")
+    return float(max_distance)
+
+
+def path(value: object) -> bytes:
+    """A file name as the bytes the system takes: from a str (undecodable bytes kept, as os.fsencode keeps
+    them), bytes, or an os.PathLike of either."""
+    try:
+        return os.fsencode(value)  # type: ignore[arg-type]
+    except TypeError:
+        raise TypeError(f"path must be a str, bytes or os.PathLike, not {type(value).__name__}") from None
 
 
 def _check_shape(array: np.ndarray, what: str, columns: int | None) -> None:

@@ -67,9 +67,9 @@ def distance_matrix(
     reachable target's exact distance however far (runs go on until the targets are final), as gdist's
     distance_matrix_of_selected_points does.
 
-    One source per thread, `threads` of them (default: one per core, never more than the sources), with the
-    GIL released; rows are identical whatever the thread count. `progress`: True for a tqdm bar, or a
-    function called with (rows done, rows). Ctrl-C stops the work within milliseconds.
+    One source per thread, `threads` of them (0 or None, the default: one per core; never more than the
+    sources), with the GIL released; rows are identical whatever the thread count. `progress`: True for a tqdm
+    bar, or a function called with (rows done, rows). Ctrl-C stops the work within milliseconds.
     """
     mesh = checked_mesh(mesh)
     vertices, columns, has_targets = _rows_and_columns(mesh, sources, targets)
@@ -106,7 +106,7 @@ def _rows_and_columns(mesh: Mesh, sources: VertexIndices, targets: VertexIndices
 
 
 def _workers(threads: int | None) -> int:
-    return 0 if threads is None else _inputs.count(threads, "threads", minimum=1, maximum=2**32 - 1)
+    return 0 if threads is None else _inputs.count(threads, "threads")
 
 
 def _fill(out: np.ndarray, mesh: Mesh, vertices: np.ndarray, columns: np.ndarray, has_targets: bool,

@@ -51,20 +51,18 @@ class Mesh:
     ) -> None:
         positions = _inputs.real_array(vertices, "vertices", columns=3)
         triangles = _inputs.triangles_array(faces, len(positions))
-        count = _inputs.count(threads, "threads", maximum=2**32 - 1)
+        weld = _inputs.flag(weld_duplicate_positions, "weld_duplicate_positions")
+        count = _inputs.count(threads, "threads")
         self._core = run_with_progress(
-            progress,
-            "mesh",
-            1000,
-            lambda reporter: _core.Mesh(positions, triangles, bool(weld_duplicate_positions), count, reporter),
+            progress, "mesh", 1000, lambda reporter: _core.Mesh(positions, triangles, weld, count, reporter)
         )
-        self._weld = bool(weld_duplicate_positions)
+        self._weld = weld
         self._identity = uuid.uuid4().hex
 
     @classmethod
     def load(
         cls,
-        path: str | os.PathLike[str],
+        path: str | bytes | os.PathLike[str] | os.PathLike[bytes],
         *,
         weld_duplicate_positions: bool = False,
         threads: int = 0,
@@ -73,18 +71,18 @@ class Mesh:
         """Reads an .obj, .ply (ASCII or binary), .off or .stl file; polygons are fan-triangulated. The file
         is read and the mesh built on `threads` threads, with `progress` and Ctrl-C as in Mesh().
 
+        `path` is a str, bytes or os.PathLike, as open() takes: a name that is not UTF-8 is read as it is.
         Raises OSError if the file cannot be read, ValueError naming the line or element if its content is
         malformed.
         """
-        count = _inputs.count(threads, "threads", maximum=2**32 - 1)
+        name = _inputs.path(path)
+        weld = _inputs.flag(weld_duplicate_positions, "weld_duplicate_positions")
+        count = _inputs.count(threads, "threads")
         mesh = cls.__new__(cls)
         mesh._core = run_with_progress(
-            progress,
-            "mesh",
-            1000,
-            lambda reporter: _core.load_mesh(os.fspath(path), bool(weld_duplicate_positions), count, reporter),
+            progress, "mesh", 1000, lambda reporter: _core.load_mesh(name, weld, count, reporter)
         )
-        mesh._weld = bool(weld_duplicate_positions)
+        mesh._weld = weld
         mesh._identity = uuid.uuid4().hex
         return mesh
 
@@ -126,7 +124,7 @@ class Mesh:
         exactgeo.Mesh (itself, or rebuilt if `weld_duplicate_positions` differs) or a (vertices, faces) pair.
         Anything else raises TypeError naming its type and what is accepted."""
         if isinstance(mesh, Mesh):
-            if mesh._weld == bool(weld_duplicate_positions):
+            if mesh._weld == _inputs.flag(weld_duplicate_positions, "weld_duplicate_positions"):
                 return mesh
             return cls(mesh.vertices, mesh.faces, weld_duplicate_positions=weld_duplicate_positions)
         return cls._of(_mesh_libraries.vertices_and_faces(mesh), weld_duplicate_positions)

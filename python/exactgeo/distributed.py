@@ -489,7 +489,7 @@ def distance_matrix_to_zarr(
     closes it afterwards; a dask.distributed Client is used as it is (tasks retried `retries` times after
     a Python exception; a dead worker's tasks are rerun by Dask); any concurrent.futures.Executor too
     (ProcessPoolExecutor, mpi4py's MPIPoolExecutor), where each process reads the mesh from the store
-    once. `threads`: threads of distance_matrix within a block.
+    once. `threads`: threads of distance_matrix within a block (0: one per core).
 
     `resume=True` keeps the blocks marked done in an existing store made for the same mesh, sources,
     targets, dtype and max_distance (ValueError naming what differs otherwise) and computes the others;
@@ -507,7 +507,7 @@ def distance_matrix_to_zarr(
     cutoff = None if max_distance is None else _inputs.cutoff(max_distance)
     if cutoff is not None and not (0 <= cutoff < math.inf):
         raise ValueError(f"max_distance must be a finite number of at least 0, not {max_distance!r}")
-    threads = _inputs.count(threads, "threads", minimum=1)
+    threads = _inputs.count(threads, "threads")
     retries = _inputs.count(retries, "retries")
     width = mesh.vertex_count if target_array is None else len(target_array)
     path = Path(os.fspath(store)).absolute()

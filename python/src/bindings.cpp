@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <future>
@@ -340,6 +341,14 @@ exactgeo::Mesh build_mesh(const nb::object& progress, std::size_t faces, exactge
   });
 }
 
+// A message may quote a file name that is not UTF-8: its bytes are shown as \xNN escapes, where decoding the
+// message as UTF-8 would fail and raise an error about the message instead of the error itself.
+void set_error(PyObject* type, const char* message) {
+  const nb::object text =
+      nb::steal(PyUnicode_DecodeUTF8(message, Py_ssize_t(std::strlen(message)), "backslashreplace"));
+  PyErr_SetObject(type, text.ptr());
+}
+
 void translate_error(const std::exception_ptr& error, void*) {
   try {
     std::rethrow_exception(error);
@@ -347,13 +356,13 @@ void translate_error(const std::exception_ptr& error, void*) {
     switch (e.code()) {
       case exactgeo::ErrorCode::invalid_argument:
       case exactgeo::ErrorCode::invalid_mesh:
-        PyErr_SetString(PyExc_ValueError, e.what());
+        set_error(PyExc_ValueError, e.what());
         return;
       case exactgeo::ErrorCode::io_error:
-        PyErr_SetString(PyExc_OSError, e.what());
+        set_error(PyExc_OSError, e.what());
         return;
       case exactgeo::ErrorCode::internal:
-        PyErr_SetString(PyExc_RuntimeError, e.what());
+        set_error(PyExc_RuntimeError, e.what());
         return;
     }
   }
@@ -446,9 +455,11 @@ NB_MODULE(_core, m) {
           nb::rv_policy::reference_internal)
       .def_prop_ro("report", [](const exactgeo::Mesh& mesh) -> exactgeo::MeshReport { return mesh.report(); });
 
+  // The path as bytes (os.fsencode): a file name that is not UTF-8 cannot travel as a str.
   m.def(
       "load_mesh",
-      [](const std::string& path, bool weld, unsigned threads, const nb::object& progress) {
+      [](const nb::bytes& name, bool weld, unsigned threads, const nb::object& progress) {
+        const std::string path(name.c_str(), name.size());
         const exactgeo::MeshOptions options{.weld_duplicate_positions = weld, .threads = threads};
         // The file's size stands in for its faces until they are known: a big file is read interruptibly.
         std::error_code size_error;

@@ -5,12 +5,13 @@ written by hand over it: the typed keyword arguments."""
 from __future__ import annotations
 
 import exactgeo
-from exactgeo import _core
+from exactgeo import _core, _geodesic
 
 
-def test_every_option_is_a_keyword_argument():
+def test_every_option_is_a_keyword_argument_with_a_checked_conversion():
     keywords = set(exactgeo.AlgorithmOptions.__annotations__) | {"max_distance"}
     assert set(_core.GeodesicOptions.fields) == keywords
+    assert set(_geodesic._OPTION_CONVERSIONS) == set(exactgeo.AlgorithmOptions.__annotations__)
 
 
 def test_options_are_documented_and_checked():

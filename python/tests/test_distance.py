@@ -387,3 +387,43 @@ def test_targets_beyond_the_cut_off_are_inf_or_exact():
     np.testing.assert_array_equal(exactgeo.distance(mesh, 0, targets=targets, targets_beyond="exact"), truth)
     with pytest.raises(ValueError, match="targets_beyond must be 'inf' or 'exact', not 'all'"):
         exactgeo.distance(mesh, 0, targets=targets, max_distance=cutoff, targets_beyond="all")
+
+
+@pytest.mark.parametrize(
+    ("options", "error", "message"),
+    [
+        ({"threads": 2**40}, ValueError, "threads must be at most 4294967295, not 1099511627776"),
+        ({"threads": -1}, ValueError, "threads must be at least 0, not -1"),
+        ({"threads": 1.5}, TypeError, "threads must be an integer, not 1.5"),
+        ({"threads": True}, TypeError, "threads must be an integer, not True"),
+        ({"rule1": "no"}, TypeError, "rule1 must be True or False, not 'no'"),
+        ({"rule23": 0}, TypeError, "rule23 must be True or False, not 0"),
+        ({"collect_timings": None}, TypeError, "collect_timings must be True or False, not None"),
+        ({"algorithm": 1}, TypeError, "algorithm must be a string, not 1"),
+        ({"max_distance": "far"}, TypeError, "max_distance must be a number or None, not 'far'"),
+    ],
+)
+def test_options_of_the_wrong_kind_are_named_by_every_entry_point(sheet, options, error, message):
+    # These raised "RuntimeError: std::bad_cast", or took "no" for true.
+    calls = [
+        lambda: exactgeo.distance(sheet, 0, **options),
+        lambda: exactgeo.GeodesicSolver(sheet).solve(0, **options),
+        lambda: exactgeo.distance_matrix(sheet, [0, 5], **options),
+        lambda: exactgeo.farthest_point_sampling(sheet, 3, **options),
+    ]
+    for call in calls:
+        with pytest.raises(error, match=message):
+            call()
+
+
+def test_numpy_booleans_and_integers_are_options_too(sheet):
+    expected = exactgeo.distance(sheet, 0, rule1=False, threads=2)
+    np.testing.assert_array_equal(exactgeo.distance(sheet, 0, rule1=np.False_, threads=np.int64(2)), expected)
+
+
+def test_stats_give_the_threads_a_run_shared(sheet):
+    # The face-sorted variants are sequential, whatever the option asks for.
+    assert exactgeo.GeodesicSolver(sheet).solve(0, algorithm="ftp", threads=4).stats.threads == 1
+    assert exactgeo.GeodesicSolver(sheet).solve(0, algorithm="opftp", threads=4).stats.threads == 1
+    assert exactgeo.GeodesicSolver(sheet).solve(0, threads=2).stats.threads == 2
+    assert exactgeo.GeodesicSolver(sheet).solve(0, threads=1).stats.threads == 1

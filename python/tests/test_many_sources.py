@@ -54,8 +54,6 @@ def test_a_cut_off_gives_a_sparse_matrix_of_the_near_entries(sheet):
 
 
 def test_bad_matrix_arguments(sheet):
-    with pytest.raises(ValueError, match="threads must be at least 1, not 0"):
-        exactgeo.distance_matrix(sheet, SOURCES, threads=0)
     with pytest.raises(ValueError, match=r"source vertex 169 is out of range \(mesh has 169 vertices\)"):
         exactgeo.distance_matrix(sheet, [0, 169])
     with pytest.raises(ValueError, match="sources must be integer indices, not objects"):
@@ -166,3 +164,17 @@ def test_the_command_lines_npz_names_its_rows_and_columns(sheet, tmp_path):
     run_cli("matrix", mesh_file, "--sources", *SOURCES, "--max-distance", 0.5, "--out", out)
     with np.load(out) as archive:
         assert archive["sources"].tolist() == SOURCES and "targets" not in archive
+
+
+def test_threads_0_means_one_per_core_as_everywhere_else(sheet):
+    # distance_matrix refused 0, which Mesh, distance and the command line take as one per core.
+    from exactgeo._many_sources import fill_distance_matrix
+
+    expected = exactgeo.distance_matrix(sheet, SOURCES, threads=1)
+    np.testing.assert_array_equal(exactgeo.distance_matrix(sheet, SOURCES, threads=0), expected)
+    sparse = exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.3, threads=0)
+    expected_sparse = exactgeo.distance_matrix(sheet, SOURCES, max_distance=0.3, threads=1)
+    np.testing.assert_array_equal(sparse.toarray(), expected_sparse.toarray())
+    filled = np.empty_like(expected)
+    fill_distance_matrix(filled, sheet, SOURCES, threads=0)
+    np.testing.assert_array_equal(filled, expected)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -109,6 +110,35 @@ def test_unreadable_files_raise_oserror_and_malformed_ones_valueerror(tmp_path):
     bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
     with pytest.raises(ValueError, match="bad.obj"):
         exactgeo.Mesh.load(bad)
+
+
+def test_load_takes_str_bytes_and_path_like_names_not_utf8_ones_included(tmp_path):
+    # Bytes printed nanobind's list of signatures; a str name that is not UTF-8 could not reach the library.
+    name = os.fsencode(tmp_path) + b"/sphere-\xff.obj"
+    vertices, faces = exactgeo.make_icosphere(1)
+    write_obj(Path(os.fsdecode(name)), vertices, faces)
+    for path in (name, os.fsdecode(name), Path(os.fsdecode(name))):
+        assert exactgeo.Mesh.load(path).face_count == 80
+    with pytest.raises(OSError, match=r"missing-\\xff\.obj"):
+        exactgeo.Mesh.load(os.fsencode(tmp_path) + b"/missing-\xff.obj")
+    with pytest.raises(TypeError, match="path must be a str, bytes or os.PathLike, not int"):
+        exactgeo.Mesh.load(3)
+
+
+def test_mesh_arguments_of_the_wrong_kind_are_named(tmp_path):
+    vertices, faces = exactgeo.make_icosphere(1)
+    sphere = write_obj(tmp_path / "sphere.obj", vertices, faces)
+    for build in (lambda **kw: exactgeo.Mesh(vertices, faces, **kw), lambda **kw: exactgeo.Mesh.load(sphere, **kw)):
+        with pytest.raises(TypeError, match="threads must be an integer, not 1.5"):
+            build(threads=1.5)
+        with pytest.raises(ValueError, match="threads must be at least 0, not -1"):
+            build(threads=-1)
+        with pytest.raises(ValueError, match="threads must be at most 4294967295, not 1099511627776"):
+            build(threads=2**40)
+        # "no" was taken for true, and the mesh welded.
+        with pytest.raises(TypeError, match="weld_duplicate_positions must be True or False, not 'no'"):
+            build(weld_duplicate_positions="no")
+        assert build(weld_duplicate_positions=np.True_, threads=np.uint8(0)).face_count == 80
 
 
 SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]

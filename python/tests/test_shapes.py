@@ -53,7 +53,8 @@ def test_subdivision_keeps_the_surface_and_the_original_vertices():
 @pytest.mark.parametrize(
     ("call", "message"),
     [
-        (lambda: exactgeo.make_icosphere(-1), r"icosphere subdivisions -1 out of range \(0 to 14\)"),
+        (lambda: exactgeo.make_icosphere(-1), r"icosphere subdivisions -1 out of range \(0 to 13"),
+        (lambda: exactgeo.make_icosphere(14), r"icosphere subdivisions 14 out of range \(0 to 13: 20 \* 4\^K faces"),
         (lambda: exactgeo.make_bumpy_torus(2, 8), r"bumpy torus needs at least 3 segments each way \(got 2 x 8\)"),
         (lambda: exactgeo.make_grid(0, 3, 1.0, 1.0), "grid needs at least 1 x 1 squares"),
         (lambda: exactgeo.subdivide_midpoint([[0, 0, 0]], [[0, 0, 1]]), "subdivide_midpoint: face 0 vertex index 1"),
@@ -61,4 +62,20 @@ def test_subdivision_keeps_the_surface_and_the_original_vertices():
 )
 def test_bad_shape_parameters_raise_valueerror(call, message):
     with pytest.raises(ValueError, match=message):
+        call()
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "message"),
+    [
+        (lambda: exactgeo.make_icosphere(2**40), ValueError, "subdivisions must be at most 2147483647, not 10995"),
+        (lambda: exactgeo.make_icosphere(1.5), TypeError, "subdivisions must be an integer, not 1.5"),
+        (lambda: exactgeo.make_bumpy_torus(2**40, 8), ValueError, "major_segments must be at most 2147483647"),
+        (lambda: exactgeo.make_bumpy_torus(8, "8"), TypeError, "minor_segments must be an integer, not '8'"),
+        (lambda: exactgeo.make_grid(3, -(2**40), 1.0, 1.0), ValueError, "ny must be at least -2147483648"),
+    ],
+)
+def test_shape_sizes_that_are_no_c_int_are_named(call, error, message):
+    # These printed nanobind's list of the accepted signatures.
+    with pytest.raises(error, match=message):
         call()
