@@ -18,7 +18,6 @@ class WavefrontQueue {
     position_.assign(id_count, kNone);
   }
   bool empty() const { return heap_.empty(); }
-  double top_key() const { return heap_.front().key; }
   bool contains(std::uint32_t id) const { return position_[id] != kNone; }
 
   // Inserts `id` with `key`, or lowers its key if it is queued with a larger one.
