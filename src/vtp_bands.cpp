@@ -52,6 +52,19 @@ constexpr std::uint64_t kJoined = std::uint64_t{1} << 32, kHungry = 1, kBandOver
 constexpr std::uint64_t hungry_count(std::uint64_t state) { return state & 0xffffffffu; }
 constexpr std::uint64_t joined_count(std::uint64_t state) { return (state & ~kBandOver) >> 32; }
 
+// Orders `items` so that shares first..last-1 of `shares` equal shares (share k: the positions from
+// size * k / shares on) hold the smallest numbers first, each share in any order. Halving the range of shares
+// each time passes over the items log2(shares) times: one nth_element per share boundary from the start
+// passed over them shares / 2 times, a serial step that took 6% of a 16-thread run at 1.6M faces.
+void split_into_shares(std::vector<std::uint32_t>& items, unsigned first, unsigned last, unsigned shares) {
+  if (last - first < 2) return;
+  const unsigned middle = first + (last - first) / 2;
+  const auto at = [&](unsigned k) { return items.begin() + static_cast<std::ptrdiff_t>(items.size() * k / shares); };
+  std::nth_element(at(first), at(middle), at(last));
+  split_into_shares(items, first, middle, shares);
+  split_into_shares(items, middle, last, shares);
+}
+
 }  // namespace
 
 void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
@@ -164,9 +177,7 @@ void VtpEngine::propagate_band() {
   crossing_queues_[0].items.assign(pending_.begin(), pending_.end());
   crossing_queues_[0].front = 0;
   pending_.clear();
-  for (unsigned t = 1; t < threads; ++t)
-    std::nth_element(band_.begin() + static_cast<std::ptrdiff_t>(band_.size() * (t - 1) / threads),
-                     band_.begin() + static_cast<std::ptrdiff_t>(band_.size() * t / threads), band_.end());
+  split_into_shares(band_, 0, threads, threads);
   band_state_.store(0, std::memory_order_relaxed);
   const bool timed = options_.collect_timings;
   if (timed) band_start_ = std::chrono::steady_clock::now();
