@@ -25,8 +25,8 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
 from solvers.commands import missing_cli_options
 from solvers.end_to_end import add_steps, configuration, kPeerReader, kPeers, whole_runs
-from solvers.runner import (RunSettings, SolverHistory, bench_mesh, default_memory_limit_gb, default_threads,
-                            launcher_floor_bytes)
+from solvers.runner import (RunSettings, SolverHistory, add_build_and_folder_options, bench_mesh,
+                            default_memory_limit_gb, default_threads, launcher_floor_bytes)
 
 kBenchDir = Path(__file__).resolve().parent
 kRepoRoot = kBenchDir.parent
@@ -50,17 +50,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per run (default 600)")
     parser.add_argument("--memory-limit-gb", type=float,
                         help="address-space limit per run (default: 3/4 of the machine's memory)")
-    parser.add_argument("--build-dir", type=Path, default=kRepoRoot / "build",
-                        help="CMake build holding the command (default: build/)")
-    parser.add_argument("--exactgeo", type=Path, help="exactgeo CLI (default: BUILD_DIR/cli/exactgeo)")
-    parser.add_argument("--baseline-build", type=Path, help="build folder of an earlier commit, run beside it")
-    parser.add_argument("--baseline-name", default="", help="what the baseline is (its commit), for the report")
-    parser.add_argument("--mesh-dir", type=Path, default=kRepoRoot.parent / "shared" / "meshes",
-                        help="the shared OBJ meshes (default: ../shared/meshes beside the repository)")
-    parser.add_argument("--work-dir", type=Path, default=kBenchDir / "work",
-                        help="generated meshes and per-run files (default: bench/work/)")
-    parser.add_argument("--results-dir", type=Path, default=kBenchDir / "results",
-                        help="where NAME.json and NAME.md go (default: bench/results/)")
+    add_build_and_folder_options(parser, exactgeo_option=True)
     args = parser.parse_args(argv)
     args.threads = sorted(set(args.threads or default_threads()))
     if args.threads[0] < 1:

@@ -35,7 +35,8 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
 from reports.threads import write_markdown
 from solvers.commands import missing_cli_options
-from solvers.runner import RunSettings, SolverHistory, bench_mesh, default_threads, launcher_floor_bytes
+from solvers.runner import (RunSettings, SolverHistory, add_build_and_folder_options, bench_mesh, default_threads,
+                            launcher_floor_bytes)
 from solvers.threads import threads_runs
 
 kBenchDir = Path(__file__).resolve().parent
@@ -55,16 +56,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--max-repeat-seconds", type=float, default=60.0,
                         help="a run longer than this is not repeated (default 60)")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per run (default 600)")
-    parser.add_argument("--build-dir", type=Path, default=kRepoRoot / "build",
-                        help="CMake build holding the command (default: build/)")
-    parser.add_argument("--baseline-build", type=Path, help="build folder of an earlier commit, run beside it")
-    parser.add_argument("--baseline-name", default="", help="what the baseline is (its commit), for the report")
-    parser.add_argument("--mesh-dir", type=Path, default=kRepoRoot.parent / "shared" / "meshes",
-                        help="the shared OBJ meshes (default: ../shared/meshes beside the repository)")
-    parser.add_argument("--work-dir", type=Path, default=kBenchDir / "work",
-                        help="generated meshes and per-run files (default: bench/work/)")
-    parser.add_argument("--results-dir", type=Path, default=kBenchDir / "results",
-                        help="where NAME.json and NAME.md go (default: bench/results/)")
+    add_build_and_folder_options(parser)
     args = parser.parse_args(argv)
     args.threads = sorted({1, *(args.threads or default_threads())})
     if args.threads[0] < 1:

@@ -151,7 +151,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   emit_queue_.clear();
   iteration_ = 0;
   register_targets(targets);
-  lists_.reset(mesh_.halfedges.size(), threads_, [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
+  lists_.reset(mesh_.halfedges.size(), threads_,
+               [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
   stats_.threads = threads_;
 
   for (std::uint32_t i = 0; i < sources_.size(); ++i) {

@@ -80,7 +80,8 @@ class VtpEngine {
   template <class Work>
   void for_parts(std::size_t count, Work&& work) {
     if (threads_ == 1) return work(std::size_t{0}, count);
-    pool_->run(threads_, [&](std::size_t part, unsigned) { work(count * part / threads_, count * (part + 1) / threads_); });
+    pool_->run(threads_,
+               [&](std::size_t part, unsigned) { work(count * part / threads_, count * (part + 1) / threads_); });
   }
 
   // The source each surface vertex's path starts from (an index into the user's sources), kNoSource where

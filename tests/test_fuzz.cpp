@@ -58,6 +58,17 @@ std::uint64_t environment_number(const char* name, std::uint64_t fallback) {
   return text && *text ? std::strtoull(text, nullptr, 10) : fallback;
 }
 
+// Checks the cases of seeds EXACTGEO_FUZZ_SEED (1) on, EXACTGEO_FUZZ_CASES of them (default_cases), each
+// reporting its own failure, and prints how many failed.
+void check_seeds(const char* what, std::uint64_t default_cases, bool (*check)(std::uint64_t)) {
+  const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
+  const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", default_cases);
+  std::size_t failing = 0;
+  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) failing += check(seed) ? 0 : 1;
+  std::printf("%llu %s cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases), what,
+              static_cast<unsigned long long>(first_seed), failing);
+}
+
 struct FuzzCase {
   std::string family;
   MeshSoup soup;
@@ -231,14 +242,7 @@ bool check_seed(std::uint64_t seed) {
   return false;
 }
 
-TEST(Fuzz, RandomMeshesKeepEveryProperty) {
-  const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
-  const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", kDefaultCases);
-  std::size_t failing = 0;
-  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) failing += check_seed(seed) ? 0 : 1;
-  std::printf("%llu random cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
-              static_cast<unsigned long long>(first_seed), failing);
-}
+TEST(Fuzz, RandomMeshesKeepEveryProperty) { check_seeds("random", kDefaultCases, check_seed); }
 
 // ---- Coincident vertices and non-manifold junctions -------------------------------------------------------
 
@@ -455,13 +459,7 @@ bool check_junction_seed(std::uint64_t seed) {
 }
 
 TEST(Fuzz, CoincidentVerticesAndNonManifoldJunctions) {
-  const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
-  const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", kDefaultJunctionCases);
-  std::size_t failing = 0;
-  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed)
-    failing += check_junction_seed(seed) ? 0 : 1;
-  std::printf("%llu junction cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
-              static_cast<unsigned long long>(first_seed), failing);
+  check_seeds("junction", kDefaultJunctionCases, check_junction_seed);
 }
 
 // ---- Thin triangles on several threads ---------------------------------------------------------------------
@@ -523,12 +521,7 @@ bool check_thin_seed(std::uint64_t seed) {
 }
 
 TEST(Fuzz, ThinTrianglesOnThreadsAgreeWithOneThread) {
-  const std::uint64_t first_seed = environment_number("EXACTGEO_FUZZ_SEED", 1);
-  const std::uint64_t cases = environment_number("EXACTGEO_FUZZ_CASES", kDefaultThinCases);
-  std::size_t failing = 0;
-  for (std::uint64_t seed = first_seed; seed < first_seed + cases; ++seed) failing += check_thin_seed(seed) ? 0 : 1;
-  std::printf("%llu thin-triangle cases from seed %llu, %zu failing\n", static_cast<unsigned long long>(cases),
-              static_cast<unsigned long long>(first_seed), failing);
+  check_seeds("thin-triangle", kDefaultThinCases, check_thin_seed);
 }
 
 // Found by `make fuzz`: on nearly flat height fields of 3 rows, subdivided 1-to-4, a path between a source

@@ -51,6 +51,25 @@ def default_threads() -> list[int]:
     return sorted({1, 2, os.cpu_count() or 1})
 
 
+def add_build_and_folder_options(parser, exactgeo_option: bool = False) -> None:
+    """The options the command-line benches share: which builds run (--build-dir, with --exactgeo if asked,
+    and a baseline) and the folders they read and write."""
+    bench_dir = Path(__file__).resolve().parent.parent
+    repo_root = bench_dir.parent
+    parser.add_argument("--build-dir", type=Path, default=repo_root / "build",
+                        help="CMake build holding the command (default: build/)")
+    if exactgeo_option:
+        parser.add_argument("--exactgeo", type=Path, help="exactgeo CLI (default: BUILD_DIR/cli/exactgeo)")
+    parser.add_argument("--baseline-build", type=Path, help="build folder of an earlier commit, run beside it")
+    parser.add_argument("--baseline-name", default="", help="what the baseline is (its commit), for the report")
+    parser.add_argument("--mesh-dir", type=Path, default=repo_root.parent / "shared" / "meshes",
+                        help="the shared OBJ meshes (default: ../shared/meshes beside the repository)")
+    parser.add_argument("--work-dir", type=Path, default=bench_dir / "work",
+                        help="generated meshes and per-run files (default: bench/work/)")
+    parser.add_argument("--results-dir", type=Path, default=bench_dir / "results",
+                        help="where NAME.json and NAME.md go (default: bench/results/)")
+
+
 @dataclasses.dataclass
 class RunSettings:
     """How many runs, from which sources, under which caps (the runner's part of a script's options)."""
