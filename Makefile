@@ -7,13 +7,20 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
+.PHONY: deps deps-command build python wheel-tools wheel sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
 
 deps:
-	@bash scripts/install-deps.sh
+	@bash scripts/install-deps.sh all
 
+# Only what the library and the exactgeo command need (no CGAL, GoogleTest or clang).
+deps-command:
+	@bash scripts/install-deps.sh command
+
+# The demo and the tests share the build folder; each says which parts it wants, so that one after the other
+# reconfigures rather than keeping the other's choice from CMake's cache.
+CONFIGURE = cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release
 build: deps
-	cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	$(CONFIGURE) -DEXACTGEO_BUILD_TESTS=ON -DEXACTGEO_BUILD_ORACLE=ON $(CMAKE_FLAGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 # The Python package, installed into python3's environment with its test requirements. Compiled in
@@ -55,8 +62,10 @@ RUN_WHEEL_TESTS = EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_
 test-wheel: wheel
 	$(RUN_WHEEL_TESTS)
 
-# Exact distances on the built-in bumpy torus from vertex 0, with a summary.
-demo: build
+# Exact distances on the built-in bumpy torus from vertex 0, with a summary: the library and the command only.
+demo: deps-command
+	$(CONFIGURE) -DEXACTGEO_BUILD_TESTS=OFF -DEXACTGEO_BUILD_ORACLE=OFF $(CMAKE_FLAGS)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target exactgeo_cli
 	$(BUILD_DIR)/cli/exactgeo distance @torus --source 0
 
 # The Python suites run mostly on one core, so the wheel builds beside them (each one's output kept together),
