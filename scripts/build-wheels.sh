@@ -40,13 +40,15 @@ for python in "$@"; do
     abi3=$python
   fi
   echo "Building the $tag wheel with $python"
+  # --config-settings in full: pip before 23.1 (Python 3.9's and 3.10's here) has no -C.
   # The target goes on the command line, not into the compiler's wrapper, so that ccache (when
   # CMAKE_CXX_COMPILER_LAUNCHER=ccache is set) tells builds for different targets apart.
   ZIG=$zig CMAKE_BUILD_PARALLEL_LEVEL=${JOBS:-$(nproc)} "$python" -m pip wheel -q --no-deps \
-    --wheel-dir "$build/wheel-raw/$tag" -Cbuild-dir="$build/wheel-build-$tag" \
-    -Ccmake.define.CMAKE_CXX_COMPILER="$repository/scripts/zig-c++" \
-    -Ccmake.define.CMAKE_CXX_FLAGS="-target $arch-linux-gnu.2.28" \
-    -Ccmake.define.CMAKE_PREFIX_PATH="$headers" -Ccmake.define.EXACTGEO_BUILD_CLI=ON "$repository"
+    --wheel-dir "$build/wheel-raw/$tag" --config-settings=build-dir="$build/wheel-build-$tag" \
+    --config-settings=cmake.define.CMAKE_CXX_COMPILER="$repository/scripts/zig-c++" \
+    --config-settings=cmake.define.CMAKE_CXX_FLAGS="-target $arch-linux-gnu.2.28" \
+    --config-settings=cmake.define.CMAKE_PREFIX_PATH="$headers" \
+    --config-settings=cmake.define.EXACTGEO_BUILD_CLI=ON "$repository"
   # --only-plat: the tag is the glibc the compiler was given. auditwheel would add manylinux_2_17 as well (the
   # symbols allow it), which no build here targets or tests.
   PATH=$tools/bin:$PATH auditwheel repair --only-plat --plat "$plat" -w "$wheel_dir" "$build/wheel-raw/$tag"/exactgeo-*.whl

@@ -13,4 +13,4 @@ for p in "${candidates[@]}"; do
           2>/dev/null) || continue
   version=${found%% *}
   [ -n "${seen[$version]:-}" ] || { seen[$version]=1; echo "$version ${found#* }"; }
-done | sort -V | cut -d' ' -f2
+done | sort -V | cut -d' ' -f2 | paste -sd' '
