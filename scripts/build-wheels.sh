@@ -42,11 +42,13 @@ for python in "$@"; do
   echo "Building the $tag wheel with $python"
   # --config-settings in full: pip before 23.1 (Python 3.9's and 3.10's here) has no -C.
   # The target goes on the command line, not into the compiler's wrapper, so that ccache (when
-  # CMAKE_CXX_COMPILER_LAUNCHER=ccache is set) tells builds for different targets apart.
+  # CMAKE_CXX_COMPILER_LAUNCHER=ccache is set) tells builds for different targets apart. <stdio.h> is included
+  # first because nanobind's headers use stderr without including it: Python.h brings it in except under the
+  # limited API of 3.12+ (the abi3 wheel), and libc++'s headers do not either.
   ZIG=$zig CMAKE_BUILD_PARALLEL_LEVEL=${JOBS:-$(nproc)} "$python" -m pip wheel -q --no-deps \
     --wheel-dir "$build/wheel-raw/$tag" --config-settings=build-dir="$build/wheel-build-$tag" \
     --config-settings=cmake.define.CMAKE_CXX_COMPILER="$repository/scripts/zig-c++" \
-    --config-settings=cmake.define.CMAKE_CXX_FLAGS="-target $arch-linux-gnu.2.28" \
+    --config-settings=cmake.define.CMAKE_CXX_FLAGS="-target $arch-linux-gnu.2.28 -include stdio.h" \
     --config-settings=cmake.define.CMAKE_PREFIX_PATH="$headers" \
     --config-settings=cmake.define.EXACTGEO_BUILD_CLI=ON "$repository"
   # --only-plat: the tag is the glibc the compiler was given. auditwheel would add manylinux_2_17 as well (the
