@@ -53,7 +53,8 @@ for python in "$@"; do
     --config-settings=cmake.define.EXACTGEO_BUILD_CLI=ON "$repository"
   # --only-plat: the tag is the glibc the compiler was given. auditwheel would add manylinux_2_17 as well (the
   # symbols allow it), which no build here targets or tests.
-  PATH=$tools/bin:$PATH auditwheel repair --only-plat --plat "$plat" -w "$wheel_dir" "$build/wheel-raw/$tag"/exactgeo-*.whl
+  PATH=$tools/bin:$PATH auditwheel repair --only-plat --plat "$plat" -w "$wheel_dir" \
+    "$build/wheel-raw/$tag"/exactgeo-*.whl
 done
 echo "Wheels in $wheel_dir:"
 ls -s --block-size=K -1 "$wheel_dir"/exactgeo-*.whl

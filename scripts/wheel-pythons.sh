@@ -9,8 +9,8 @@ if command -v pyenv >/dev/null 2>&1; then
   for d in $(ls -d "$(pyenv root)"/versions/3.* 2>/dev/null | sort -V); do candidates+=("$d/bin/python3"); done
 fi
 for p in "${candidates[@]}"; do
-  found=$("$p" -c 'import sys; assert sys.version_info >= (3, 9); print("%d.%d" % sys.version_info[:2], sys.executable)' \
-          2>/dev/null) || continue
+  describe='import sys; assert sys.version_info >= (3, 9); print("%d.%d" % sys.version_info[:2], sys.executable)'
+  found=$("$p" -c "$describe" 2>/dev/null) || continue
   version=${found%% *}
   [ -n "${seen[$version]:-}" ] || { seen[$version]=1; echo "$version ${found#* }"; }
 done | sort -V | cut -d' ' -f2 | paste -sd' '
