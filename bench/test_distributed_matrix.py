@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("distributed", reason="needs dask[distributed]: pip install 'exactgeo[distributed]'")
-pytest.importorskip("zarr", reason="needs zarr: pip install 'exactgeo[distributed]'")
+pytest.importorskip("distributed", reason="needs dask[distributed]: pip install 'dask[distributed]>=2023.1'")
+pytest.importorskip("zarr", reason="needs zarr: pip install 'zarr>=3'")
 
 import distributed_matrix  # noqa: E402
 import exactgeo  # noqa: E402

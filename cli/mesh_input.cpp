@@ -100,7 +100,7 @@ void add_mesh_options(CLI::App& command, MeshArguments& mesh) {
   // Required and checked after parsing, where a list option may have taken it as its last value.
   command.add_option("MESH", mesh.name, kMeshHelp)->type_name("");
   command.add_flag("--weld", mesh.weld, "Merge vertices with identical positions");
-  command.callback([&command, &mesh] {
+  command.callback([&mesh] {
     // Written after a list option, MESH is that option's value: the one naming a mesh (a built-in mesh or a
     // mesh file by its extension) is moved back.
     for (const ListOption& list : mesh.lists) {

@@ -142,7 +142,7 @@ def plot(
     to the painter's ordering of matplotlib's 3-D axes.
 
     Works without a display: it uses matplotlib.figure.Figure and the Agg canvas, never pyplot. Raises
-    ImportError naming `pip install exactgeo[plot]` without matplotlib.
+    ImportError naming `pip install matplotlib` without it.
     """
     try:
         from matplotlib.cm import ScalarMappable
@@ -150,9 +150,7 @@ def plot(
         from matplotlib.figure import Figure
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
     except ImportError:
-        raise ImportError(
-            "exactgeo.plot needs matplotlib: pip install exactgeo[plot] (or pip install matplotlib)"
-        ) from None
+        raise ImportError("exactgeo.plot needs matplotlib (its plot extra): pip install matplotlib") from None
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
     low, high = _limits(field, vmin, vmax)

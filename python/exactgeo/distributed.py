@@ -6,8 +6,8 @@ concurrent.futures executor), each block written by its worker straight into a Z
     distributed.store_status("d.zarr").complete                          # True
     zarr.open_array("d.zarr/distances")[:]                                # or dask.array.from_zarr
 
-An optional extra (pip install exactgeo[distributed]: dask[distributed] and zarr); `import exactgeo` does not
-import it, and this module imports dask and zarr only when a function needs them. It needs zarr-python 3 (Zarr
+An optional extra (dask[distributed] and zarr: pip install 'dask[distributed]>=2023.1' 'zarr>=3'); `import exactgeo`
+does not import it, and this module imports dask and zarr only when a function needs them. It needs zarr-python 3 (Zarr
 format v3). See docs/distributed.md.
 
 The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for
@@ -62,7 +62,8 @@ FORMAT = "exactgeo-distance-matrix/1"
 DTYPES = ("float32", "float64")
 StorePath = Union[str, "os.PathLike[str]"]
 
-_MISSING_EXTRA = "exactgeo.distributed needs its extra: pip install 'exactgeo[distributed]' (dask[distributed], zarr)"
+_MISSING_EXTRA = ("exactgeo.distributed needs its extra, dask[distributed] and zarr: "
+                  "pip install 'dask[distributed]>=2023.1' 'zarr>=3'")
 ZARR_FORMAT = 3
 
 
@@ -114,7 +115,7 @@ def _zarr() -> Any:
         raise ImportError(_MISSING_EXTRA) from None
     if int(zarr.__version__.split(".")[0]) < 3:
         raise ImportError(f"exactgeo.distributed needs zarr-python 3 or newer (Python 3.11+), not {zarr.__version__}: "
-                          "pip install 'exactgeo[distributed]'")
+                          "pip install 'zarr>=3'")
     return zarr
 
 

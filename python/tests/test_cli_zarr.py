@@ -23,7 +23,7 @@ import exactgeo
 try:
     import zarr
 except ImportError:
-    pytest.skip("reading Zarr stores needs zarr: pip install 'exactgeo[distributed]'", allow_module_level=True)
+    pytest.skip("reading Zarr stores needs zarr: pip install 'zarr>=3'", allow_module_level=True)
 if int(zarr.__version__.split(".")[0]) < 3:
     pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
 

@@ -22,7 +22,7 @@ try:
     import distributed as dask_distributed
     import zarr
 except ImportError:
-    pytest.skip("exactgeo.distributed needs dask[distributed] and zarr: pip install 'exactgeo[distributed]'",
+    pytest.skip("exactgeo.distributed needs dask[distributed] and zarr: pip install 'dask[distributed]' 'zarr>=3'",
                 allow_module_level=True)
 if int(zarr.__version__.split(".")[0]) < 3:
     pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)

@@ -98,7 +98,8 @@ def run_python(blocks: list[Block], document: Path) -> dict:
             exec(code, names)
         except ImportError as error:
             missing = getattr(error, "name", None) or ""
-            if missing.split(".")[0] in OPTIONAL_MODULES or "exactgeo[" in str(error):  # an extra not installed
+            # A module not installed, or exactgeo saying which to install for an extra.
+            if missing.split(".")[0] in OPTIONAL_MODULES or "pip install" in str(error):
                 pytest.skip(f"{document.name}:{block.line} needs {missing or error} (not installed)")
             raise
     return names

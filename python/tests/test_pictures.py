@@ -116,7 +116,7 @@ def test_plot_without_matplotlib_names_the_extra():
         "    print(e)\n"
     )
     output = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True).stdout
-    assert "pip install exactgeo[plot]" in output
+    assert "pip install matplotlib" in output
 
 
 def test_matplotlib_and_the_built_in_ramp_agree_closely():

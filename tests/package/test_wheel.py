@@ -1,10 +1,11 @@
-"""The wheel `make wheel` writes works on its own: a fresh virtual environment (no system site-packages) with
-no compiler reachable installs it, imports exactgeo, runs the Python test suite and the exactgeo command.
+"""The wheels `make wheel` writes work on their own: for every wheel and every interpreter it fits, a fresh
+virtual environment (no system site-packages) with no compiler reachable installs it, imports exactgeo, runs the
+Python test suite and the exactgeo command.
 
-Run by `make test-wheel` (part of `make test`). Environment: EXACTGEO_WHEEL_DIR (where the wheel is, default
-dist/), EXACTGEO_WHEEL_PYTHON (the interpreter the wheel was built for, default this one). Skips, saying how to
-build it, when there is no wheel. numpy, scipy, pytest and tqdm come from PyPI (or pip's cache), as binary wheels
-only: nothing may be compiled.
+Run by `make test-wheel` (part of `make test`) and `make wheels`. Environment: EXACTGEO_WHEEL_DIR (where the
+wheels are, default dist/), EXACTGEO_WHEEL_PYTHONS (the interpreters to test with, separated by spaces, default
+this one). Skips, saying how to build them, when there is no wheel. numpy, scipy, pytest and tqdm come from
+PyPI (or pip's cache), as binary wheels only: nothing may be compiled.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import os
 import re
 import subprocess
 import sys
-import venv
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -22,7 +23,7 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 WHEEL_DIR = Path(os.environ.get("EXACTGEO_WHEEL_DIR", REPOSITORY / "dist"))
 if not WHEEL_DIR.is_absolute():
     WHEEL_DIR = REPOSITORY / WHEEL_DIR
-PYTHON = os.environ.get("EXACTGEO_WHEEL_PYTHON", sys.executable)
+PYTHONS = os.environ.get("EXACTGEO_WHEEL_PYTHONS", sys.executable).split()
 
 # Anything that could compile or link: C and C++ compilers under any of their names, and the assembler and
 # linker they would call.
@@ -30,12 +31,34 @@ COMPILER = re.compile(r"(^|-)(cc|c\+\+|gcc|g\+\+|cpp|clang|clang\+\+|clang-cpp|l
                       r"(-[0-9.]+)?$")
 
 
-def the_wheel() -> Path:
+def version_of(python: str) -> tuple[int, int]:
+    done = subprocess.run([python, "-c", "import sys; print(*sys.version_info[:2])"], capture_output=True, text=True,
+                          check=True)
+    major, minor = done.stdout.split()
+    return int(major), int(minor)
+
+
+def fits(wheel: Path, version: tuple[int, int]) -> bool:
+    """Whether CPython `version` installs `wheel`: cp3X-abi3 fits 3.X and later, cp3X-cp3X only 3.X."""
+    _, _, python_tag, abi_tag, _ = wheel.name.split("-", 4)
+    built_for = (3, int(python_tag.removeprefix("cp3")))
+    return version >= built_for if abi_tag == "abi3" else version == built_for
+
+
+def cases() -> list:
+    """A test case per (wheel, interpreter) that fits; a wheel no interpreter given fits is a failing case."""
     wheels = sorted(WHEEL_DIR.glob("exactgeo-*-manylinux*.whl"))
     if not wheels:
-        pytest.skip(f"no repaired wheel in {WHEEL_DIR}: `make wheel` builds it (`make test-wheel` builds and tests it)")
-    assert len(wheels) == 1, f"more than one wheel in {WHEEL_DIR}: {wheels}"
-    return wheels[0]
+        return [pytest.param((None, None), id="no-wheel")]
+    versions = {python: version_of(python) for python in PYTHONS}
+    found = []
+    for wheel in wheels:
+        fitting = [python for python in PYTHONS if fits(wheel, versions[python])]
+        found += [pytest.param((wheel, python), id=f"{wheel.name.split('-')[3]}-py%d.%d" % versions[python])
+                  for python in fitting]
+        if not fitting:
+            found.append(pytest.param((wheel, None), id=f"{wheel.name}-untested"))
+    return found
 
 
 def tools_without_compilers(folder: Path) -> Path:
@@ -48,11 +71,21 @@ def tools_without_compilers(folder: Path) -> Path:
     return folder
 
 
+@pytest.fixture(scope="module", params=cases())
+def wheel_and_python(request) -> tuple[Path, str]:
+    wheel, python = request.param
+    if wheel is None:
+        pytest.skip(f"no repaired wheel in {WHEEL_DIR}: `make wheel` builds one (`make test-wheel` builds and tests "
+                    "it, `make wheels` those of every Python here)")
+    assert python, f"none of the interpreters given ({' '.join(PYTHONS)}) installs {wheel.name}"
+    return wheel, python
+
+
 @pytest.fixture(scope="module")
-def environment(tmp_path_factory):
-    wheel = the_wheel()
+def environment(tmp_path_factory, wheel_and_python):
+    wheel, python = wheel_and_python
     work = tmp_path_factory.mktemp("wheel")
-    subprocess.run([PYTHON, "-m", "venv", str(work / "venv")], check=True)
+    subprocess.run([python, "-m", "venv", str(work / "venv")], check=True)
     tools = tools_without_compilers(work / "tools")
     env = {
         "PATH": f"{work / 'venv' / 'bin'}:{tools}",
@@ -105,6 +138,19 @@ def test_the_command_comes_with_the_wheel_and_runs(environment):
         name = line.split()[0]
         assert re.match(r"(linux-vdso|/lib64/ld-linux|ld-linux|libc\.|libm\.|libstdc\+\+\.|libgcc_s\.|"
                         r"libpthread\.|libdl\.)", name), f"the command needs {name}"
+
+
+def test_the_binaries_need_no_glibc_newer_than_the_tag_says(wheel_and_python):
+    # auditwheel checks the module's symbol versions, not the command's: both are read here. Every glibc
+    # version a binary needs is named in its dynamic string table as GLIBC_2.N.
+    wheel, _ = wheel_and_python
+    floor = int(re.search(r"manylinux_2_(\d+)_", wheel.name).group(1))
+    with zipfile.ZipFile(wheel) as archive:
+        binaries = [name for name in archive.namelist() if name.endswith((".so", "/scripts/exactgeo"))]
+        assert len(binaries) == 2, binaries
+        for name in binaries:
+            needed = {int(minor) for minor in re.findall(rb"GLIBC_2\.(\d+)", archive.read(name))}
+            assert needed and max(needed) <= floor, f"{name} needs GLIBC_2.{max(needed)}, the tag says 2.{floor}"
 
 
 def test_the_python_test_suite_passes_against_the_wheel(environment):
