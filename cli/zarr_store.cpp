@@ -387,7 +387,7 @@ std::string block_problem(const fs::path& path, const BlockShape& shape, std::si
   const std::string problem =
       shape.sparse ? hash_pieces(path, shape, block, digest) : hash_chunk(path, shape, block, digest);
   if (!problem.empty()) return problem;
-  if (digest.hex_digest() == record["sha256"]) return {};
+  if (digest.hex_digest() == record["sha256"].get<std::string>()) return {};
   if (shape.sparse)
     return "the pieces in '" + (path / "csr" / block_name(block)).string() + "' do not hash to the sha256 in '" +
            marker.string() + "'";
