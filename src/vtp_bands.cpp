@@ -39,8 +39,8 @@ namespace {
 
 // Width of a band in mean edge lengths. Narrower bands mean more of them, each ending with the threads
 // waiting for the last list; wider ones cross lists before the nearer windows that would prune them have
-// arrived (one edge: 3% more window propagations and 10% more list crossings than half an edge on
-// nefertiti). With few threads the waits are short and half an edge measured best on the scans
+// arrived (one edge on 16 threads: 3% more window propagations and a third more list crossings than half
+// an edge on nefertiti). With few threads the waits are short and half an edge measured best on the scans
 // (docs/performance.md); from four threads on a band of half an edge gives each thread only a few dozen
 // crossings, and one edge measured 9% faster on nefertiti at 4 threads and 16-22% faster on nefertiti and its
 // 400K-face subdivision at 16 threads (two edges: slower again on both).
