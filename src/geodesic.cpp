@@ -135,7 +135,8 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
   engine.for_parts(mesh_->vertex_count(), [&](std::size_t begin, std::size_t end) {
     for (auto v = static_cast<std::uint32_t>(begin); v < end; ++v) {
       const std::uint32_t s = surface.nearest_copy(v, d);  // the smallest over the vertex's copies
-      const bool reached = s != detail::kNone && !std::isinf(d[s]) && d[s] <= cutoff;  // else used by no face, unreached
+      // Not reached: used by no face, unreached, or beyond the cut-off.
+      const bool reached = s != detail::kNone && !std::isinf(d[s]) && d[s] <= cutoff;
       result.distances[v] = reached ? surface.to_input_length(d[s]) : HUGE_VAL;
       result.nearest_source[v] = reached ? label_of_vertex(s) : kNoSource;
     }
