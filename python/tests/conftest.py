@@ -62,3 +62,11 @@ def shared_mesh(name: str) -> Path:
     if not path.is_file():
         pytest.skip(f"shared mesh {path} is absent")
     return path
+
+
+def zarr3_or_skip():
+    """zarr-python 3, which the Zarr stores need, or a skip of the calling test module saying what to install."""
+    zarr = pytest.importorskip("zarr", reason="reading Zarr stores needs zarr: pip install 'zarr>=3'")
+    if int(zarr.__version__.split(".")[0]) < 3:
+        pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
+    return zarr

@@ -16,16 +16,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CLI, run_cli, write_obj
+from conftest import CLI, run_cli, write_obj, zarr3_or_skip
 
 import exactgeo
 
-try:
-    import zarr
-except ImportError:
-    pytest.skip("reading Zarr stores needs zarr: pip install 'zarr>=3'", allow_module_level=True)
-if int(zarr.__version__.split(".")[0]) < 3:
-    pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
+zarr = zarr3_or_skip()
 
 from exactgeo import distributed
 

@@ -15,6 +15,7 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
 import pytest
+from conftest import zarr3_or_skip
 
 import exactgeo
 
@@ -24,8 +25,7 @@ try:
 except ImportError:
     pytest.skip("exactgeo.distributed needs dask[distributed] and zarr: pip install 'dask[distributed]' 'zarr>=3'",
                 allow_module_level=True)
-if int(zarr.__version__.split(".")[0]) < 3:
-    pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
+zarr3_or_skip()  # dask is there; zarr must be version 3
 
 from exactgeo import distributed
 

@@ -17,16 +17,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CLI
+from conftest import CLI, zarr3_or_skip
 
 import exactgeo
 
-try:
-    import zarr
-except ImportError:
-    pytest.skip("reading Zarr stores needs zarr: pip install 'exactgeo[distributed]'", allow_module_level=True)
-if int(zarr.__version__.split(".")[0]) < 3:
-    pytest.skip(f"exactgeo.distributed needs zarr-python 3, not {zarr.__version__}", allow_module_level=True)
+zarr = zarr3_or_skip()
 
 from exactgeo import distributed
 
