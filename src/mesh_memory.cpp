@@ -1,0 +1,57 @@
+// Memory for the mesh's and the engine's arrays (surface_mesh.hpp): small ones from the heap, large ones
+// mapped on their own and, on Linux, advised into transparent huge pages.
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+
+#include "surface_mesh.hpp"
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace exactgeo::detail {
+namespace {
+
+#if defined(__linux__)
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+// From this size on an array gets its own mapping: below it, the heap reuses memory that is already mapped.
+constexpr std::size_t kMappedBytes = 2 * kHugePage;
+
+std::size_t mapped_size(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+#endif
+
+}  // namespace
+
+void* allocate_mesh_bytes(std::size_t bytes, std::size_t alignment) {
+#if defined(__linux__)
+  if (bytes >= kMappedBytes) {
+    // Mapped one huge page larger than needed, then trimmed to a huge-page-aligned range, so that all of it
+    // can be backed by huge pages.
+    const std::size_t size = mapped_size(bytes);
+    void* mapped = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) throw std::bad_alloc();
+    const auto address = reinterpret_cast<std::uintptr_t>(mapped);
+    const std::uintptr_t aligned = (address + kHugePage - 1) / kHugePage * kHugePage;
+    if (aligned > address) munmap(mapped, aligned - address);
+    const std::uintptr_t tail = aligned + size, mapped_end = address + size + kHugePage;
+    if (mapped_end > tail) munmap(reinterpret_cast<void*>(tail), mapped_end - tail);
+    madvise(reinterpret_cast<void*>(aligned), size, MADV_HUGEPAGE);  // a hint: without it, small pages
+    return reinterpret_cast<void*>(aligned);
+  }
+#endif
+  return ::operator new(bytes, std::align_val_t{alignment});
+}
+
+void free_mesh_bytes(void* p, std::size_t bytes, std::size_t alignment) noexcept {
+  if (p == nullptr) return;
+#if defined(__linux__)
+  if (bytes >= kMappedBytes) {
+    munmap(p, mapped_size(bytes));
+    return;
+  }
+#endif
+  ::operator delete(p, std::align_val_t{alignment});
+}
+
+}  // namespace exactgeo::detail
