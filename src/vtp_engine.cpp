@@ -9,6 +9,7 @@
 
 #include "assert.hpp"
 #include "cache_hint.hpp"
+#include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
 #include "stop.hpp"
@@ -102,6 +103,9 @@ ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Arrival& 
 }
 
 }  // namespace
+
+VtpEngine::VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh) {}
+VtpEngine::~VtpEngine() = default;
 
 void VtpEngine::run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
                     const GeodesicOptions& options) {
@@ -427,20 +431,21 @@ void VtpEngine::emit(std::uint32_t v) {
       [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
 }
 
-// emit, with other threads running (the parallel bands, vtp_bands.cpp): v's distance and arrival are read
-// under its lock, the distances it offers and the windows it places go in under theirs.
+// emit, with other threads running (parallel_propagation.cpp; written here, where for_each_emission_part is):
+// v's distance and arrival are read under its lock, the distances it offers and the windows it places go in
+// under theirs.
 void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
   double d;
   Arrival arrival;
   {
-    const SpinGuard guard(vertex_locks_[v]);
+    const SpinGuard guard(parallel_->vertex_locks[v]);
     emit_scheduled_[v] = 0;
     d = distance_[v];
     arrival = arrival_[v];
     if (!(lowered_since_emission(v, d) && d <= cutoff_)) return;
     emitted_at_[v] = d;
   }
-  ++scratch_[thread].stats.pseudo_source_emissions;
+  ++parallel_->scratch[thread].stats.pseudo_source_emissions;
   for_each_emission_part(
       v, d, arrival, [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
       [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });

@@ -14,14 +14,10 @@
 // per-vertex arrivals from which paths are traced back.
 #pragma once
 
-#include <array>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <span>
 #include <vector>
 
@@ -34,6 +30,8 @@
 #include "worker_pool.hpp"
 
 namespace exactgeo::detail {
+
+struct ParallelState;  // parallel_propagation.hpp
 
 // A source of a run: a surface vertex (point.vertex set) or a point inside a face or on an edge, and the
 // index of the user's source it stands for.
@@ -59,7 +57,8 @@ void check_options(const GeodesicOptions& options);
 
 class VtpEngine {
  public:
-  explicit VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh) {}
+  explicit VtpEngine(const SurfaceMesh& mesh);
+  ~VtpEngine();
 
   void run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
            const GeodesicOptions& options);
@@ -179,69 +178,14 @@ class VtpEngine {
   std::vector<Window> to_ac_, to_bc_;
   std::vector<double> splits_, key_splits_;
 
-  // Parallel propagation (options_.threads > 1, vertex-sorted; vtp_bands.cpp): the wavefront advances by
-  // bands of vertices; in each, every thread encloses its share of the band's vertices and crosses the
-  // lists that sets moving, the lists of each face and each vertex changed under a lock of their own.
-  // The lists a thread scheduled, crossed last in first out by that thread alone: the newest lie where it
-  // just worked, still in its cache (on one thread the order gains nothing: docs/performance.md). A thread
-  // that runs out says it is hungry; the next thread to notice hands it the older half of its own lists
-  // (items[front, ...)) through its inbox.
-  struct alignas(64) CrossingQueue {
-    std::vector<std::uint32_t> items;
-    std::size_t front = 0;  // the lists before it were handed to hungry threads
-    std::atomic<bool> hungry{false};
-    std::atomic<bool> fed{false};  // the inbox holds lists
-    std::atomic<bool> share_taken{false};  // the band's share of vertices of the same number as the thread
-    std::atomic<std::uint8_t> inbox_lock{0};
-    std::vector<std::uint32_t> inbox;
-  };
-  struct alignas(64) ThreadScratch {  // a cache line of its own: each thread writes its own often
-    std::vector<double> splits;
-    std::array<std::vector<Window>, 2> crossed;
-    // Vertices it queued, by the band they fall in: the slot of band k is queued_by_band[k % kBandSlots].
-    std::vector<std::vector<std::uint32_t>> queued_by_band;
-    std::vector<std::uint32_t> to_emit;  // pseudo-sources inside that it lowered: they emit again
-    std::uint16_t depth = 0;             // of the crossing under way (0: enclosing a vertex)
-    std::uint16_t deepest = 0;           // of the band's crossings so far
-    bool targets_changed = false;
-    GeodesicStats stats;  // its propagations, merges, emissions, crossings and pruning time
-  };
-  // The bands' queue. Band k holds the queued vertices at distances in [k - 1, k) band widths: lowering a
-  // vertex's distance files it anew (in the queue of the thread that did) and leaves a stale entry behind,
-  // told apart by band_of_. A vertex whose band is under way, or behind, goes into the next band; one more
-  // than kBandSlots - 1 bands ahead goes into the last slot, and moves on from there when its turn comes.
-  static constexpr std::uint64_t kBandSlots = 1024;
-  double band_width_ = 0;  // engine lengths: the wavefront advances by half an edge or one per band
-  std::uint64_t band_index_ = 0;         // of the band under way
-  MeshArray<std::uint64_t> band_of_;    // per vertex: the band it was last filed in
+  // Parallel propagation (options_.threads > 1, vertex-sorted; parallel_propagation.cpp): the wavefront
+  // advances by bands of vertices, each thread enclosing its share of a band's vertices and crossing the lists
+  // that sets moving. The ..._concurrently twins are the sequential steps under the locks of what they change.
   std::unique_ptr<WorkerPool> pool_;
   unsigned pool_asked_ = 0;  // the threads pool_ was asked for: it may have fewer, if the system refused some
-  std::vector<ThreadScratch> scratch_;
-  std::vector<std::uint32_t> band_;  // the vertices a band moves inside
-  // One lock per face guards the lists of its three halfedges (entering a face takes one lock, not three).
-  std::unique_ptr<std::atomic<std::uint8_t>[]> face_locks_;
-  std::unique_ptr<std::atomic<std::uint8_t>[]> vertex_locks_;
-  std::unique_ptr<CrossingQueue[]> crossing_queues_;
-  // Who works on the band: the threads that joined it (high half), those of them hungry (low half), and
-  // kBandOver once every one that joined is hungry. A thread the system runs late finds the band over.
-  std::atomic<std::uint64_t> band_state_{0};
-  std::atomic<bool> aborted_{false};    // a thread threw: the others stop
-  // With collect_timings: when the band under way started, and the threads' crossings and busy time at the
-  // end of the last band (GeodesicStats::band_timeline).
-  std::chrono::steady_clock::time_point band_start_{};
-  std::uint64_t timeline_crossings_ = 0;
-  double timeline_busy_seconds_ = 0;
-  int hungry_spins_ = 0;                // how long a hungry thread spins before it yields the core
-  std::mutex targets_mutex_;
-  bool gather_band();
-  // Band k holds distances in [k - 1, k) band widths.
-  double band_of_distance(double d) const { return std::floor(d / band_width_) + 1; }
-  void file_in_band(std::uint32_t v, double d, ThreadScratch& scratch);
+  std::unique_ptr<ParallelState> parallel_;  // of the run under way, if parallel
   void propagate_band();
   void propagate_band_on(unsigned thread);
-  bool join_band();
-  bool band_over_or_fed(const CrossingQueue& queue);
-  void feed_hungry(unsigned thread);
   void enclose_concurrently(std::uint32_t v, unsigned thread);
   void cross_concurrently(std::uint32_t h, unsigned thread);
   void relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread);

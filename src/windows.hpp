@@ -31,7 +31,7 @@ struct Window {
 //
 // Every change takes the number of the thread making it: each thread allocates from its own chunks and keeps
 // the blocks it frees, so the parallel bands can move lists concurrently, each thread changing only lists
-// whose locks it holds (vtp_bands.cpp). A block may be freed by another thread than the one that carved it; it
+// whose locks it holds (parallel_propagation.cpp). A block may be freed by another thread than the one that carved it; it
 // then serves that thread's next allocations.
 class WindowLists {
  public:

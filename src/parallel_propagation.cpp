@@ -1,8 +1,9 @@
-// Parallel propagation of one run (GeodesicOptions::threads > 1, vertex-sorted variants).
+// Parallel propagation of one run (GeodesicOptions::threads > 1, vertex-sorted variants; its state in
+// parallel_propagation.hpp, its queues in band_queue.hpp and crossing_queues.hpp).
 //
 // The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time. Here
 // the wavefront advances by a band instead: the queued vertices whose distances lie in the nearest slice of
-// band_width_ (of a fixed grid) join the traversed area. Each thread takes a share of the band's vertices
+// the band width (on a fixed grid) join the traversed area. Each thread takes a share of the band's vertices
 // that lie together (vertex numbers follow space), emits from those that bend paths and enters their faces,
 // then crosses the lists this sets moving and whatever they reach inside the traversed area, until no thread
 // has a list left. A list is taken off its edge under the lock of the edge's face (one lock guards a face's
@@ -30,6 +31,7 @@
 #include <mutex>
 
 #include "assert.hpp"
+#include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
 #include "vtp_engine.hpp"
@@ -46,11 +48,6 @@ namespace {
 // 400K-face subdivision at 16 threads (two edges: slower again on both).
 constexpr double kBandEdgesFewThreads = 0.5, kBandEdgesManyThreads = 1.0;
 constexpr unsigned kManyThreads = 4;
-
-// band_state_: one joined thread, one hungry thread, and the band being over.
-constexpr std::uint64_t kJoined = std::uint64_t{1} << 32, kHungry = 1, kBandOver = std::uint64_t{1} << 63;
-constexpr std::uint64_t hungry_count(std::uint64_t state) { return state & 0xffffffffu; }
-constexpr std::uint64_t joined_count(std::uint64_t state) { return (state & ~kBandOver) >> 32; }
 
 // Orders `items` so that shares first..last-1 of `shares` equal shares (share k: the positions from
 // size * k / shares on) hold the smallest numbers first, each share in any order. Halving the range of shares
@@ -69,42 +66,40 @@ void split_into_shares(std::vector<std::uint32_t>& items, unsigned first, unsign
 
 void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
   EXACTGEO_ASSERT(pool_ && pool_->threads() == threads);  // made by run, which clears the lists with it
-  scratch_.assign(threads, ThreadScratch{});
-  face_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.face_count());
-  vertex_locks_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh_.vertex_count);
-  crossing_queues_ = std::make_unique<CrossingQueue[]>(threads);
-  aborted_ = false;
+  parallel_ = std::make_unique<ParallelState>(threads, mesh_.vertex_count, mesh_.face_count());
+  ParallelState& parallel = *parallel_;
   // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked of the
   // team, which asked hardware_concurrency once: it reads a file.)
-  hungry_spins_ = pool_->oversubscribed() ? 0 : 1024;
-  band_width_ = (threads < kManyThreads ? kBandEdgesFewThreads : kBandEdgesManyThreads) * mesh_.mean_edge_length;
-  if (!(band_width_ > 0)) band_width_ = 1;  // every edge of length 0: every distance is 0
-
-  for (ThreadScratch& s : scratch_) s.queued_by_band.resize(kBandSlots);
-  band_of_.resize(mesh_.vertex_count);  // band 0 is never under way: sources at distance 0 fall in band 1
-  for_parts(mesh_.vertex_count, [&](std::size_t begin, std::size_t end) {
-    std::fill(band_of_.begin() + begin, band_of_.begin() + end, std::uint64_t{0});
-  });
-  band_index_ = 0;
-  timeline_crossings_ = 0;
-  timeline_busy_seconds_ = 0;
+  parallel.hungry_spins = pool_->oversubscribed() ? 0 : 1024;
+  double band_width = (threads < kManyThreads ? kBandEdgesFewThreads : kBandEdgesManyThreads) * mesh_.mean_edge_length;
+  if (!(band_width > 0)) band_width = 1;  // every edge of length 0: every distance is 0
+  parallel.bands.start(mesh_.vertex_count, threads, band_width);
+  for_parts(mesh_.vertex_count, [&](std::size_t begin, std::size_t end) { parallel.bands.clear_vertices(begin, end); });
 
   while (true) {
     update_cutoff();
     // Vertices queued on this thread alone (by the sources, and by emissions of sources in the first band).
     while (!vertex_queue_.empty()) {
       const std::uint32_t v = vertex_queue_.pop();
-      file_in_band(v, distance_[v], scratch_[0]);
+      parallel.bands.file(v, distance_[v], 0);
     }
     {
       const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-      if (!gather_band()) break;
+      parallel.band.clear();
+      const bool more = parallel.bands.next_band(
+          [&](std::uint32_t v) { return state_[v] == VertexState::queued; },
+          [&](std::uint32_t v) { return distance_[v]; },
+          [&](std::uint32_t v) {
+            move_inside(v);
+            parallel.band.push_back(v);
+          });
+      if (!more) break;
     }
     ++stats_.parallel_bands;
     ++iteration_;  // one iteration per band: all its faces are new to the traversed area
     propagate_band();
   }
-  for (const ThreadScratch& s : scratch_) {
+  for (const ParallelState::ThreadScratch& s : parallel.scratch) {
     stats_.pruning_seconds += s.stats.pruning_seconds;
     stats_.prime_propagations += s.stats.prime_propagations;
     stats_.secondary_propagations += s.stats.secondary_propagations;
@@ -120,46 +115,7 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
     stats_.parallel_starved_seconds += s.stats.parallel_starved_seconds;
     stats_.parallel_lock_wait_seconds += s.stats.parallel_lock_wait_seconds;
   }
-}
-
-// Makes the nearest band that holds queued vertices the band under way and moves them inside; false once
-// no band holds any. A vertex filed in the last slot because it lay farther ahead is filed again here.
-bool VtpEngine::gather_band() {
-  band_.clear();
-  for (std::uint64_t empty_slots = 0; band_.empty();) {
-    const std::uint64_t band = ++band_index_;
-    bool any = false;
-    for (ThreadScratch& s : scratch_) {
-      std::vector<std::uint32_t>& slot = s.queued_by_band[band % kBandSlots];
-      any = any || !slot.empty();
-      for (const std::uint32_t v : slot) {
-        if (state_[v] != VertexState::queued || band_of_[v] != band) continue;  // inside, or filed again since
-        if (band_of_distance(distance_[v]) > static_cast<double>(band)) {
-          file_in_band(v, distance_[v], scratch_[0]);  // into a later slot
-          continue;
-        }
-        move_inside(v);
-        band_.push_back(v);
-      }
-      slot.clear();
-    }
-    empty_slots = any ? 0 : empty_slots + 1;
-    if (empty_slots == kBandSlots - 1) return false;  // every slot a vertex can be filed in is empty
-  }
-  return true;
-}
-
-// Files queued vertex v, at distance d, in its band, or in the nearest one the queue can still take: after
-// the band under way, at most kBandSlots - 1 ahead of it. Called under v's lock while the threads run.
-void VtpEngine::file_in_band(std::uint32_t v, double d, ThreadScratch& scratch) {
-  const std::uint64_t first = band_index_ + 1, last = band_index_ + kBandSlots - 1;
-  const double at = band_of_distance(d);
-  const std::uint64_t band = at <= static_cast<double>(first) ? first
-                             : at >= static_cast<double>(last) ? last
-                                                               : static_cast<std::uint64_t>(at);
-  if (band_of_[v] == band) return;
-  band_of_[v] = band;
-  scratch.queued_by_band[band % kBandSlots].push_back(v);
+  parallel_.reset();
 }
 
 // One band: the threads share its vertices and the crossings they set off (and file the vertices they reach
@@ -168,27 +124,21 @@ void VtpEngine::propagate_band() {
   // Lists scheduled before the first band (by a source inside a face), and emissions of sources, on one
   // thread as the sequential engine would.
   while (!emit_queue_.empty()) emit_lowered_pseudo_source();
+  ParallelState& parallel = *parallel_;
   const unsigned threads = pool_->threads();
-  for (unsigned t = 0; t < threads; ++t) {  // each ended the last band hungry and unfed
-    crossing_queues_[t].hungry.store(false, std::memory_order_relaxed);
-    crossing_queues_[t].fed.store(false, std::memory_order_relaxed);
-    crossing_queues_[t].share_taken.store(false, std::memory_order_relaxed);
-  }
-  crossing_queues_[0].items.assign(pending_.begin(), pending_.end());
-  crossing_queues_[0].front = 0;
+  parallel.crossings.start_band(pending_);
   pending_.clear();
-  split_into_shares(band_, 0, threads, threads);
-  band_state_.store(0, std::memory_order_relaxed);
+  split_into_shares(parallel.band, 0, threads, threads);
   const bool timed = options_.collect_timings;
-  if (timed) band_start_ = std::chrono::steady_clock::now();
+  if (timed) parallel.band_start = std::chrono::steady_clock::now();
   pool_->run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
   const double seconds =
-      timed ? std::chrono::duration<double>(std::chrono::steady_clock::now() - band_start_).count() : 0.0;
+      timed ? std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel.band_start).count() : 0.0;
   stats_.parallel_seconds += seconds;
   std::uint16_t deepest = 0;
   std::uint64_t crossings = 0;
   double busy_seconds = 0;
-  for (ThreadScratch& s : scratch_) {
+  for (ParallelState::ThreadScratch& s : parallel.scratch) {
     targets_changed_ = targets_changed_ || s.targets_changed;
     s.targets_changed = false;
     deepest = std::max(deepest, s.deepest);
@@ -198,11 +148,11 @@ void VtpEngine::propagate_band() {
   }
   stats_.parallel_critical_path += deepest;
   if (timed) {  // the threads' counts so far, less those of the bands before
-    stats_.band_timeline.push_back({static_cast<std::uint32_t>(band_.size()),
-                                    static_cast<std::uint32_t>(crossings - timeline_crossings_), deepest, seconds,
-                                    busy_seconds - timeline_busy_seconds_});
-    timeline_crossings_ = crossings;
-    timeline_busy_seconds_ = busy_seconds;
+    stats_.band_timeline.push_back({static_cast<std::uint32_t>(parallel.band.size()),
+                                    static_cast<std::uint32_t>(crossings - parallel.timeline_crossings), deepest,
+                                    seconds, busy_seconds - parallel.timeline_busy_seconds});
+    parallel.timeline_crossings = crossings;
+    parallel.timeline_busy_seconds = busy_seconds;
   }
   lists_.note_peak();
 }
@@ -210,10 +160,11 @@ void VtpEngine::propagate_band() {
 // One thread's part of a band, if it comes before the band is over: it takes shares of the band's vertices
 // while there are any, then crosses lists until every thread that joined has run out.
 void VtpEngine::propagate_band_on(unsigned thread) {
-  if (!join_band()) return;
-  const unsigned threads = pool_->threads();
-  ThreadScratch& scratch = scratch_[thread];
-  CrossingQueue& queue = crossing_queues_[thread];
+  ParallelState& parallel = *parallel_;
+  CrossingQueues& crossings = parallel.crossings;
+  if (!crossings.join()) return;
+  const unsigned threads = crossings.threads();
+  ParallelState::ThreadScratch& scratch = parallel.scratch[thread];
   auto emit_lowered = [&] {
     while (!scratch.to_emit.empty()) {
       const std::uint32_t v = scratch.to_emit.back();
@@ -232,7 +183,7 @@ void VtpEngine::propagate_band_on(unsigned thread) {
   LockWaits& lock_waits_here = lock_waits;
   const LockWaits lock_waits_before = lock_waits_here;
   lock_waits_here.timed = timed;
-  if (timed) scratch.stats.parallel_start_seconds += std::chrono::duration<double>(mark - band_start_).count();
+  if (timed) scratch.stats.parallel_start_seconds += std::chrono::duration<double>(mark - parallel.band_start).count();
   auto leave = [&] {  // the thread's part of the band is over
     if (timed && mark != std::chrono::steady_clock::time_point::max())
       time_since_mark(scratch.stats.parallel_busy_seconds);
@@ -242,103 +193,48 @@ void VtpEngine::propagate_band_on(unsigned thread) {
   try {
     scratch.depth = 0;
     // Its own share first: the same part of the wavefront as in the last band, whose lists it has in its cache.
+    const std::vector<std::uint32_t>& band = parallel.band;
     for (unsigned k = 0; k < threads; ++k) {
       const unsigned share = (thread + k) % threads;
-      if (crossing_queues_[share].share_taken.exchange(true, std::memory_order_relaxed)) continue;
-      for (std::size_t i = band_.size() * share / threads; i < band_.size() * (share + 1) / threads; ++i) {
-        enclose_concurrently(band_[i], thread);
+      if (!crossings.claim_share(share, thread)) continue;
+      for (std::size_t i = band.size() * share / threads; i < band.size() * (share + 1) / threads; ++i) {
+        enclose_concurrently(band[i], thread);
         emit_lowered();
       }
     }
-    while (!aborted_.load(std::memory_order_relaxed)) {
-      if (queue.front < queue.items.size()) {
-        const std::uint32_t h = queue.items.back();
-        queue.items.pop_back();
-        if (queue.front == queue.items.size()) {
-          queue.items.clear();
-          queue.front = 0;
-        }
+    while (!crossings.aborted()) {
+      std::uint32_t h;
+      if (crossings.pop(thread, h)) {
         cross_concurrently(h, thread);
         emit_lowered();
-        if (hungry_count(band_state_.load(std::memory_order_relaxed)) > 0) feed_hungry(thread);
+        if (crossings.anyone_hungry()) crossings.feed_hungry(thread);
         continue;
       }
-      // Counted before it says so: a thread that sees it hungry finds it counted.
-      band_state_.fetch_add(kHungry, std::memory_order_acq_rel);
-      queue.hungry.store(true, std::memory_order_release);
       if (timed) time_since_mark(scratch.stats.parallel_busy_seconds);
-      wait_until([&] { return band_over_or_fed(queue); }, hungry_spins_);
-      if (!queue.fed.load(std::memory_order_acquire)) {
+      if (!crossings.wait_for_lists(thread, parallel.hungry_spins)) {
         mark = std::chrono::steady_clock::time_point::max();  // waits at the band's end are what is left
         break;
       }
       if (timed) time_since_mark(scratch.stats.parallel_starved_seconds);
-      const SpinGuard guard(queue.inbox_lock);
-      queue.items.swap(queue.inbox);
-      queue.fed.store(false, std::memory_order_relaxed);
     }
   } catch (...) {
-    aborted_ = true;  // the others stop too: the lists they wait for will not come
+    crossings.abort();  // the others stop too: the lists they wait for will not come
     leave();
     throw;
   }
   leave();
 }
 
-// Counts this thread in, unless the band is over.
-bool VtpEngine::join_band() {
-  std::uint64_t state = band_state_.load(std::memory_order_acquire);
-  do {
-    if (state & kBandOver) return false;
-  } while (!band_state_.compare_exchange_weak(state, state + kJoined, std::memory_order_acq_rel));
-  return true;
-}
-
-// For a hungry thread: whether it was fed, or the band is over (it closes the band if every thread that
-// joined is hungry: only a thread with lists makes new ones, and every share of vertices was taken before
-// any thread got hungry).
-bool VtpEngine::band_over_or_fed(const CrossingQueue& queue) {
-  if (queue.fed.load(std::memory_order_acquire) || aborted_.load(std::memory_order_relaxed)) return true;
-  std::uint64_t state = band_state_.load(std::memory_order_acquire);
-  while (!(state & kBandOver)) {
-    if (hungry_count(state) != joined_count(state)) return false;
-    if (band_state_.compare_exchange_weak(state, state | kBandOver, std::memory_order_acq_rel)) return true;
-  }
-  return true;
-}
-
-// Hands the older half of this thread's lists to each hungry thread. It keeps the newer half, which it
-// crosses first: it scheduled those last, so their records and faces are still in its cache (handing over
-// the newer half instead was 2-3% slower at 400K faces). The one fed is counted as no longer hungry before
-// it knows: the count never shows every thread hungry while lists move between them (this one is not).
-void VtpEngine::feed_hungry(unsigned thread) {
-  CrossingQueue& queue = crossing_queues_[thread];
-  const unsigned threads = pool_->threads();
-  for (unsigned k = 1; k < threads && queue.items.size() - queue.front >= 2; ++k) {
-    CrossingQueue& other = crossing_queues_[(thread + k) % threads];
-    if (!other.hungry.load(std::memory_order_acquire)) continue;
-    const SpinGuard guard(other.inbox_lock);
-    if (!other.hungry.load(std::memory_order_relaxed)) continue;
-    const auto oldest = queue.items.begin() + static_cast<std::ptrdiff_t>(queue.front);
-    const std::size_t given = (queue.items.size() - queue.front) / 2;
-    other.inbox.assign(oldest, oldest + static_cast<std::ptrdiff_t>(given));
-    queue.front += given;
-    other.hungry.store(false, std::memory_order_relaxed);
-    band_state_.fetch_sub(kHungry, std::memory_order_acq_rel);
-    other.fed.store(true, std::memory_order_release);
-  }
-}
-
 // enclose_vertex, with other threads running. A face joins the traversed area under its lock, which its
 // lists' windows arrive under too: a window placed or delivered there either comes first and is found here,
 // or finds the face inside and is scheduled by whoever brought it.
 void VtpEngine::enclose_concurrently(std::uint32_t v, unsigned thread) {
-  if (bends_paths(v)) scratch_[thread].to_emit.push_back(v);
+  if (bends_paths(v)) parallel_->scratch[thread].to_emit.push_back(v);
   prefetch_faces_of(v);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
     if (face_inside(f)) continue;  // most are: a plain load spares taking the lock, a locked instruction
-    const SpinGuard guard(face_locks_[f]);
+    const SpinGuard guard(parallel_->face_locks[f]);
     if (face_inside(f)) continue;  // another thread's vertex of the same band entered it meanwhile
     std::atomic_ref<std::uint32_t>(face_visited_at_[f]).store(iteration_, std::memory_order_relaxed);
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
@@ -349,10 +245,10 @@ void VtpEngine::enclose_concurrently(std::uint32_t v, unsigned thread) {
 // cross, with other threads running: the list is taken off h first, so that windows can join h meanwhile
 // (they schedule it again).
 void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
-  ThreadScratch& scratch = scratch_[thread];
+  ParallelState::ThreadScratch& scratch = parallel_->scratch[thread];
   WindowLists::List taken;
   {
-    const SpinGuard guard(face_locks_[face_of(h)]);
+    const SpinGuard guard(parallel_->face_locks[face_of(h)]);
     taken = lists_.take(h);  // no longer scheduled, its depth back to 0
     scratch.depth = std::max<std::uint16_t>(taken.depth, 1);
   }
@@ -374,7 +270,7 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
       cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], reach, at_apex);
   (prime ? scratch.stats.prime_propagations : scratch.stats.secondary_propagations) += propagations;
   if (!face_target_offsets_.empty()) {
-    const std::lock_guard lock(targets_mutex_);
+    const std::lock_guard lock(parallel_->targets_mutex);
     evaluate_targets(h, incoming);
   }
   lists_.give_back(taken, thread);
@@ -387,15 +283,15 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
 // bands' queue by this thread, and a pseudo-source inside emits again once this thread's crossing is done.
 void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread) {
   if (!(d < distance_now(v))) return;
-  ThreadScratch& scratch = scratch_[thread];
-  const SpinGuard guard(vertex_locks_[v]);
+  ParallelState::ThreadScratch& scratch = parallel_->scratch[thread];
+  const SpinGuard guard(parallel_->vertex_locks[v]);
   if (!(d < distance_[v])) return;
   if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) scratch.targets_changed = true;
   std::atomic_ref<double>(distance_[v]).store(d, std::memory_order_relaxed);
   arrival_[v] = arrival;
   if (state_[v] != VertexState::inside) {
     state_[v] = VertexState::queued;
-    file_in_band(v, d, scratch);
+    parallel_->bands.file(v, d, thread);
   } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
     emit_scheduled_[v] = 1;
     scratch.to_emit.push_back(v);
@@ -405,7 +301,7 @@ void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arr
 // place_new_window, with other threads running.
 void VtpEngine::place_concurrently(std::uint32_t g, const Window& w, unsigned thread) {
   if (beyond_cutoff(w)) return;
-  const SpinGuard guard(face_locks_[face_of(g)]);
+  const SpinGuard guard(parallel_->face_locks[face_of(g)]);
   if (face_inside(face_of(g))) {
     lists_.append(g, {&w, 1}, thread);
     schedule_locked(g, thread);
@@ -421,8 +317,8 @@ void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windo
   if (windows.empty()) return;
   Handover to = hand_over(side, windows, origin, prime);
   if (to.edge == kNone || to.count == 0) return;
-  GeodesicStats& stats = scratch_[thread].stats;
-  const SpinGuard guard(face_locks_[face_of(to.edge)]);
+  GeodesicStats& stats = parallel_->scratch[thread].stats;
+  const SpinGuard guard(parallel_->face_locks[face_of(to.edge)]);
   if (face_inside(face_of(to.edge))) to.joining = Joining::inside;
   if (to.joining != Joining::inside && !lists_.empty(to.edge)) ++(prime ? stats.prime_merges : stats.secondary_merges);
   const std::span<Window> list = lists_.extend(to.edge, to.count, thread);
@@ -435,11 +331,11 @@ void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windo
 // crossing's that reached it (saturating: only a statistic).
 void VtpEngine::schedule_locked(std::uint32_t h, unsigned thread) {
   WindowLists::List& edge = lists_.record(h);
-  const std::uint16_t depth = scratch_[thread].depth;
+  const std::uint16_t depth = parallel_->scratch[thread].depth;
   edge.depth = std::max<std::uint16_t>(edge.depth, depth == UINT16_MAX ? depth : static_cast<std::uint16_t>(depth + 1));
   if (edge.scheduled) return;
   edge.scheduled = 1;
-  crossing_queues_[thread].items.push_back(h);
+  parallel_->crossings.push(thread, h);
 }
 
 }  // namespace exactgeo::detail
