@@ -1,7 +1,7 @@
 """What docs/python.md ("Coming from pygeodesic, gdist, libigl or potpourri3d") and docs/recipes.md say the other
 geodesic packages do, checked against the packages themselves: the calls the tables map to ours, and each
-difference in behaviour the bullets state. A test skips when its package is not installed (pygeodesic and
-tvb-gdist are in python/requirements-test.txt; libigl and potpourri3d in bench/requirements.txt).
+difference in behaviour the bullets state. A test skips when its package is not installed (all four are in
+python/requirements-test.txt, at the benchmark's pins: the figures the guide quotes come from those versions).
 
 Agreement on the shared meshes, and gdist's and pygeodesic's targets beyond max_distance, are in
 test_agreement.py. What may crash a package is run in a process of its own.
@@ -32,11 +32,11 @@ def gdist():
 
 
 def igl():
-    return pytest.importorskip("igl", reason="libigl not installed (bench/requirements.txt)")
+    return pytest.importorskip("igl", reason="libigl not installed (python/requirements-test.txt)")
 
 
 def potpourri3d():
-    return pytest.importorskip("potpourri3d", reason="potpourri3d not installed (bench/requirements.txt)")
+    return pytest.importorskip("potpourri3d", reason="potpourri3d not installed (python/requirements-test.txt)")
 
 
 def sheet() -> tuple[np.ndarray, np.ndarray, exactgeo.Mesh]:
