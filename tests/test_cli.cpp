@@ -404,6 +404,16 @@ TEST_F(Cli, HelpExitsZero) {
   EXPECT_NE(result.out.find("@icosphere:K"), std::string::npos) << result.out;
 }
 
+// What --out's help says the PLY files hold is what the PLY tests below read: it once called the distance a float.
+TEST_F(Cli, HelpSaysWhatThePlyFilesHold) {
+  const RunResult result = run("distance --help");
+  EXPECT_NE(result.out.find(".ply (the mesh, binary: float coordinates, a double distance property and colours)"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find(".ascii.ply (the same as text, the coordinates as doubles too)"), std::string::npos)
+      << result.out;
+}
+
 TEST_F(Cli, MissingFileIsInvalidInput) {
   expect_error(run("distance " + arg("no-such-mesh.obj") + " --source 0"), 2, "no-such-mesh.obj");
   expect_error(run("info " + arg("no-such-mesh.ply")), 2, "no-such-mesh.ply");
