@@ -103,7 +103,7 @@ test-tsan: deps
 	cmake -S . -B $(TSAN_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="-fsanitize=thread -O1 -g" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DEXACTGEO_BUILD_CLI=OFF -DEXACTGEO_BUILD_ORACLE=OFF -DEXACTGEO_BUILD_PYTHON=OFF
 	cmake --build $(TSAN_BUILD_DIR) -j $(JOBS) --target exactgeo_tests
-	$(TSAN_BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Threads.*:WindowLists.*:WorkerPool.*:MeshBuild.*:IoChunks.*:-Threads.EveryVariantGivesTheSequentialDistancesOnEveryThreadCount'
+	$(TSAN_BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Threads.*:CrossingQueues.*:BandQueue.*:WindowLists.*:WorkerPool.*:MeshBuild.*:IoChunks.*:-Threads.EveryVariantGivesTheSequentialDistancesOnEveryThreadCount'
 
 # Longer fuzzing than `make test`: the geometric fuzz tests (tests/test_fuzz.cpp) with FUZZ_CASES cases each
 # (100 and 200 times their defaults) in the Release build, then the mesh readers under libFuzzer for
