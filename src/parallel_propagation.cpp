@@ -286,16 +286,9 @@ void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arr
   ParallelState::ThreadScratch& scratch = parallel_->scratch[thread];
   const SpinGuard guard(parallel_->vertex_locks[v]);
   if (!(d < distance_[v])) return;
-  if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) scratch.targets_changed = true;
-  std::atomic_ref<double>(distance_[v]).store(d, std::memory_order_relaxed);
-  arrival_[v] = arrival;
-  if (state_[v] != VertexState::inside) {
-    state_[v] = VertexState::queued;
-    parallel_->bands.file(v, d, thread);
-  } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
-    emit_scheduled_[v] = 1;
-    scratch.to_emit.push_back(v);
-  }
+  lower(
+      v, d, arrival, scratch.targets_changed, [&] { parallel_->bands.file(v, d, thread); },
+      [&] { scratch.to_emit.push_back(v); });
 }
 
 // place_new_window, with other threads running.

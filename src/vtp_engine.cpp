@@ -362,17 +362,12 @@ bool VtpEngine::face_inside(std::uint32_t f) const {
 void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
   EXACTGEO_ASSERT(d >= 0);  // and not NaN
   if (!(d < distance_[v])) return;
-  if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) targets_changed_ = true;
-  distance_[v] = d;
-  arrival_[v] = arrival;
-  if (state_[v] != VertexState::inside) {
-    state_[v] = VertexState::queued;
-    if (!face_sorted_) push_vertex(v, d);
-  } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
-    // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
-    emit_scheduled_[v] = 1;
-    emit_queue_.push_back(v);
-  }
+  lower(
+      v, d, arrival, targets_changed_,
+      [&] {
+        if (!face_sorted_) push_vertex(v, d);
+      },
+      [&] { emit_queue_.push_back(v); });
 }
 
 void VtpEngine::schedule(std::uint32_t h) {

@@ -14,6 +14,7 @@
 // per-vertex arrivals from which paths are traced back.
 #pragma once
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -102,6 +103,9 @@ class VtpEngine {
   void join_face(std::uint32_t f);
   void start_point_source(std::uint32_t site);
   void relax(std::uint32_t v, double d, const Arrival& arrival);
+  template <class Queue, class EmitAgain>
+  void lower(std::uint32_t v, double d, const Arrival& arrival, bool& targets_changed, Queue&& queue,
+             EmitAgain&& emit_again);
   void push_vertex(std::uint32_t v, double d);
   FaceFrame face_frame(std::uint32_t h) const;
   void queue_face(std::uint32_t g, std::span<const Window> arriving);
@@ -205,5 +209,25 @@ class VtpEngine {
   std::vector<std::uint8_t> is_target_vertex_;                      // per surface vertex, empty without
   bool targets_changed_ = false;
 };
+
+// A path of length d, shorter than v's distance, reaches v: the one rule of relax and relax_concurrently, which
+// hold v. Outside the traversed area v is queued (queue()); inside, a pseudo-source lowered enough since it
+// emitted emits again (emit_again()), once however often it is lowered meanwhile. The distance is stored
+// atomically: other threads read it without v's lock (distance_now).
+template <class Queue, class EmitAgain>
+void VtpEngine::lower(std::uint32_t v, double d, const Arrival& arrival, bool& targets_changed, Queue&& queue,
+                      EmitAgain&& emit_again) {
+  if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) targets_changed = true;
+  std::atomic_ref<double>(distance_[v]).store(d, std::memory_order_relaxed);
+  arrival_[v] = arrival;
+  if (state_[v] != VertexState::inside) {
+    state_[v] = VertexState::queued;
+    queue();
+  } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
+    // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
+    emit_scheduled_[v] = 1;
+    emit_again();
+  }
+}
 
 }  // namespace exactgeo::detail
