@@ -173,7 +173,7 @@ int run_distance(const DistanceArguments& arguments) {
   const Sources sources = read_sources(arguments.sources, mesh);
   const std::vector<exactgeo::SurfacePoint> targets =
       arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>()
-                                : parse_targets(list_text(arguments.targets), mesh, "--targets");
+                                : read_targets(arguments.targets, mesh, "--targets");
   // --targets-beyond exact: the run goes on until every target is final, whatever the cut-off; the cut-off
   // then applies to the vertex distances alone.
   const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";
@@ -241,10 +241,11 @@ Command add_distance_command(CLI::App& app) {
       ->check(distance_check())
       ->type_name("R");
   add_list_option(*command, a.mesh, "--targets", a.targets,
-                  "Targets, as files or lists: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
-                  "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
-                  "exact up to the farthest target and inf beyond")
-      ->type_name("FILE|LIST");
+                  "Targets: vertex indices (3,17,42) or points F:b0,b1,b2, separated by spaces, newlines or ';', "
+                  "as lists or files, a .npy array of vertex indices of any integer dtype, or - for standard input "
+                  "in any of these forms. Propagation stops once they are final; vertex distances are then exact "
+                  "up to the farthest target and inf beyond")
+      ->type_name("FILE|LIST|-");
   command
       ->add_option("--targets-beyond", a.targets_beyond,
                    "What targets farther than --max-distance get: inf (default; the run stops at the cut-off) or "
