@@ -257,8 +257,10 @@ Command add_distance_command(CLI::App& app) {
                     "Add the nearest source (index in the order given, vertices first; -1 if none) to each output row");
   add_output_option(*command, "--out", a.out,
                     "Write one distance per vertex in input order: .txt (%.17g, 'inf' if unreachable), "
-                    ".csv (vertex,distance; - writes it to stdout), .npy (float64), .ply (the mesh with a float "
-                    "distance property and colours, binary) or .ascii.ply (the same as text, distances as doubles)",
+                    ".csv (vertex,distance; - writes it to stdout), .npy (float64), .ply (the mesh with a double "
+                    "distance property and colours, binary; VTK-based tools such as ParaView keep only the colours), "
+                    ".ascii.ply (the same as text) or .vtk (the mesh with the distance as point data, legacy VTK "
+                    "binary, for ParaView, VisIt and pyvista)",
                     kVertexValueFormats, "output");
   add_output_option(*command, "--target-out", a.target_out,
                     "Write one distance per target: .txt, .csv (target,distance; - writes it to stdout) or .npy; "

@@ -674,6 +674,86 @@ TEST_F(Cli, PlyOutputIsBinaryWithTheAsciiPlysValues) {
   EXPECT_EQ(read_file(path("D.PLY")).find("format binary_little_endian 1.0"), 4u);
 }
 
+// A legacy binary VTK file as .vtk writes it: text lines, each block of big-endian numbers followed by a newline.
+struct LegacyVtk {
+  std::vector<std::string> lines;  // the text lines, in order
+  std::vector<double> points;      // x, y, z per vertex
+  std::vector<std::int32_t> polygons;
+  std::vector<double> distances;
+  std::vector<std::int32_t> labels;
+};
+
+LegacyVtk read_legacy_vtk(const std::string& bytes, std::size_t vertex_count, std::size_t face_count, bool labels) {
+  LegacyVtk vtk;
+  std::size_t at = 0;
+  const auto line = [&] {
+    const std::size_t end = bytes.find('\n', at);
+    vtk.lines.push_back(bytes.substr(at, end - at));
+    at = end == std::string::npos ? bytes.size() : end + 1;
+  };
+  const auto big_endian = [&](std::size_t size) {
+    std::uint64_t bits = 0;
+    for (std::size_t byte = 0; byte < size && at < bytes.size(); ++byte) bits = bits << 8 | std::uint8_t(bytes[at++]);
+    return bits;
+  };
+  const auto doubles = [&](std::vector<double>& values, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) values.push_back(std::bit_cast<double>(big_endian(8)));
+    EXPECT_EQ(bytes[at++], '\n') << "a newline after the binary block";
+  };
+  const auto ints = [&](std::vector<std::int32_t>& values, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i)
+      values.push_back(std::bit_cast<std::int32_t>(static_cast<std::uint32_t>(big_endian(4))));
+    EXPECT_EQ(bytes[at++], '\n') << "a newline after the binary block";
+  };
+  for (int i = 0; i < 5; ++i) line();
+  doubles(vtk.points, 3 * vertex_count);
+  line();
+  ints(vtk.polygons, 4 * face_count);
+  for (int i = 0; i < 3; ++i) line();
+  doubles(vtk.distances, vertex_count);
+  if (labels) {
+    for (int i = 0; i < 2; ++i) line();
+    ints(vtk.labels, vertex_count);
+  }
+  EXPECT_EQ(at, bytes.size()) << "bytes after the last block";
+  return vtk;
+}
+
+// .vtk: the mesh with the distance as point data, which VTK-based tools read (their PLY reader keeps only
+// colours): the positions and distances exactly, bit for bit the .npy's, inf included; labels as ints.
+TEST_F(Cli, VtkOutputCarriesTheMeshAndTheDistancesExactly) {
+  write_file(path("two.obj"),
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0.1\nf 1 2 3\nf 2 4 3\nf 5 6 7\n");
+  ASSERT_EQ(run("distance " + arg("two.obj") + " --source 0 --out " + arg("d.npy")).exit_code, 0);
+  ASSERT_EQ(run("distance " + arg("two.obj") + " --source 0 --labels --out " + arg("d.vtk")).exit_code, 0);
+  const std::vector<double> distances = parse_npy(path("d.npy"));
+  ASSERT_EQ(distances.size(), 7u);
+  EXPECT_TRUE(std::isinf(distances[6]));
+  const LegacyVtk vtk = read_legacy_vtk(read_file(path("d.vtk")), 7, 3, true);
+  const std::vector<std::string> expected_lines = {"# vtk DataFile Version 3.0",
+                                                   "written by exactgeo",
+                                                   "BINARY",
+                                                   "DATASET POLYDATA",
+                                                   "POINTS 7 double",
+                                                   "POLYGONS 3 12",
+                                                   "POINT_DATA 7",
+                                                   "SCALARS distance double 1",
+                                                   "LOOKUP_TABLE default",
+                                                   "SCALARS nearest_source int 1",
+                                                   "LOOKUP_TABLE default"};
+  EXPECT_EQ(vtk.lines, expected_lines);
+  EXPECT_EQ(vtk.points, (std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 0, 0, 6, 0, 0, 5, 1, 0.1}));
+  EXPECT_EQ(vtk.polygons, (std::vector<std::int32_t>{3, 0, 1, 2, 3, 1, 3, 2, 3, 4, 5, 6}));
+  expect_bitwise_equal(vtk.distances, distances);
+  EXPECT_EQ(vtk.labels, (std::vector<std::int32_t>{0, 0, 0, 0, -1, -1, -1}));
+  // Without labels the distance is the only point data.
+  ASSERT_EQ(run("distance @torus:24:10 --source 3 --out " + arg("t.vtk")).exit_code, 0);
+  ASSERT_EQ(run("distance @torus:24:10 --source 3 --out " + arg("t.npy")).exit_code, 0);
+  const LegacyVtk torus = read_legacy_vtk(read_file(path("t.vtk")), 240, 480, false);
+  expect_bitwise_equal(torus.distances, parse_npy(path("t.npy")));
+  EXPECT_EQ(torus.lines.back(), "LOOKUP_TABLE default");
+}
+
 TEST_F(Cli, PathOnAFlatGridIsTheDiagonal) {
   for (const char* name : {"p.csv", "p.obj", "p.json"})
     ASSERT_EQ(run("path @grid:4:4 --source 0 --target 24 --out " + arg(name)).exit_code, 0) << name;
