@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-import warnings
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, Callable, Literal, TypedDict, overload
 
@@ -14,6 +13,7 @@ from . import _core, _inputs
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
 from ._surface_point import SurfacePoint, SurfacePoints, Sites, source_sites, target_points
+from ._warnings import warn
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
@@ -196,11 +196,10 @@ def _warn_if_seams_cut_the_surface(mesh: Mesh, distances: np.ndarray) -> None:
         return
     unreachable = int(np.count_nonzero(np.isinf(distances))) - report.unreferenced_vertices
     if unreachable > 0:
-        warnings.warn(
+        warn(
             f"{unreachable} of {mesh.vertex_count} vertices are unreachable, and {report.duplicate_positions} "
             "vertices repeat another's position (seams, as mesh libraries split meshes): "
-            "exactgeo.Mesh(..., weld_duplicate_positions=True) joins them",
-            stacklevel=3,
+            "exactgeo.Mesh(..., weld_duplicate_positions=True) joins them"
         )
 
 

@@ -257,8 +257,12 @@ def test_seams_that_cut_the_surface_are_pointed_out_with_the_fix(tmp_path):
     # Two triangles sharing an edge by position only, as trimesh leaves a mesh split at a texture seam.
     vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
     faces = [[0, 1, 2], [3, 4, 5]]
-    with pytest.warns(UserWarning, match=r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True"):
-        exactgeo.distance(exactgeo.Mesh(vertices, faces), 0)
+    # Each way into the solver warns at this file's line, not at exactgeo's.
+    mesh = exactgeo.Mesh(vertices, faces)
+    for call in (lambda: exactgeo.distance(mesh, 0), lambda: exactgeo.GeodesicSolver(mesh).solve(0)):
+        with pytest.warns(UserWarning, match=r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True") as caught:
+            call()
+        assert [w.filename for w in caught] == [__file__]
     import warnings
 
     with warnings.catch_warnings():
