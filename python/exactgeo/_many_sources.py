@@ -11,7 +11,8 @@ from . import _core, _inputs
 from ._geodesic import AlgorithmOptions, TargetsBeyond, exact_targets, geodesic_options
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
-from ._surface_point import VertexIndices
+from ._surface_point import VertexIndices, holds_points
+from ._warnings import warn
 
 if TYPE_CHECKING:
     from scipy.sparse import csr_array
@@ -55,7 +56,8 @@ def distance_matrix(
 ) -> np.ndarray | csr_array:
     """Distances from each source vertex (rows) to every input vertex (columns), or to `targets`.
 
-    Row i is `sources[i]`, in the order given. With `targets` (vertex indices), column j is `targets[j]`: a
+    Row i is `sources[i]`, in the order given: vertex indices only (TypeError for surface points, whose rows
+    exactgeo.distance gives one at a time). With `targets` (vertex indices), column j is `targets[j]`: a
     (sources, targets) block holding exactly those columns of the full matrix, and each run stops as soon
     as the targets are final, so nearby targets cost a fraction of a full row. The caller has the row and
     column vertices already (the command line's .npz stores them as `sources` and `targets`).
@@ -96,6 +98,17 @@ def distance_matrix(
 
 def _rows_and_columns(mesh: Mesh, sources: VertexIndices, targets: VertexIndices | None) -> tuple:
     """The source vertices, the target vertices (empty without targets) and whether targets were given."""
+    # The library's matrices run from vertices only; for points, say which call takes them.
+    if holds_points(sources):
+        raise TypeError(
+            "distance_matrix takes source vertex indices, not surface points: for a point source, one row is "
+            "exactgeo.distance(mesh, point) (a GeodesicSolver reused across the points keeps its buffers)"
+        )
+    if targets is not None and holds_points(targets):
+        raise TypeError(
+            "distance_matrix takes target vertex indices, not surface points: "
+            "exactgeo.distance(mesh, source, targets=points) gives one row's distances to points"
+        )
     vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
     columns = (
         np.empty(0, dtype=np.uint32)

@@ -57,7 +57,7 @@ def test_bad_matrix_arguments(sheet):
     with pytest.raises(ValueError, match=r"source vertex 169 is out of range \(mesh has 169 vertices\)"):
         exactgeo.distance_matrix(sheet, [0, 169])
     with pytest.raises(ValueError, match="sources must be integer indices, not objects"):
-        exactgeo.distance_matrix(sheet, [exactgeo.SurfacePoint(0)])
+        exactgeo.distance_matrix(sheet, [object()])
     with pytest.raises(ValueError, match="max_distance must be a non-negative number"):
         exactgeo.distance_matrix(sheet, SOURCES, max_distance=-0.5)
 
@@ -86,6 +86,17 @@ def test_sampling_stops_once_the_reachable_vertices_are_taken():
     assert len(exactgeo.farthest_point_sampling(mesh, 0).samples) == 0
     with pytest.raises(ValueError, match="count must be at least 0, not -1"):
         exactgeo.farthest_point_sampling(mesh, -1)
+
+
+def test_surface_point_sources_say_which_call_takes_them(sheet):
+    points = [exactgeo.SurfacePoint(3, (0.2, 0.3, 0.5))]
+    for sources in (points, points[0], exactgeo.SurfacePoints.of(points)):
+        with pytest.raises(TypeError, match=r"takes source vertex indices, not surface points: .*exactgeo.distance"):
+            exactgeo.distance_matrix(sheet, sources)
+    with pytest.raises(TypeError, match=r"takes target vertex indices, not surface points: .*targets=points"):
+        exactgeo.distance_matrix(sheet, [0, 1], targets=points)
+    # What the message points to gives the row.
+    assert exactgeo.distance(sheet, points[0]).shape == (sheet.vertex_count,)
 
 
 def test_without_scipy_a_cut_off_matrix_says_what_to_install(sheet, monkeypatch):
