@@ -166,16 +166,32 @@ def farthest_point_sampling(
     samples so far (ties to the lowest index).
 
     `first` is one vertex or several, taken as the first samples in their order (each one's radius its
-    distance to those before). Stops early once every vertex reachable from them is a sample; vertices on
-    other pieces of the mesh are never sampled. Each run after the first stops at the current largest
-    distance, so later samples cost less. `progress`: True for a tqdm bar, or a function called with
-    (samples taken, count). Ctrl-C stops the work within milliseconds.
+    distance to those before). Each run after the first stops at the current largest distance, so later
+    samples cost less. `progress`: True for a tqdm bar, or a function called with (samples taken, count).
+    Ctrl-C stops the work within milliseconds.
+
+    Samples are distinct vertices (but for repeated `first` ones): a `count` above the vertex count (and above
+    len(first)) raises ValueError before any work. Sampling stops early once every vertex within reach (of
+    `first`'s piece of the mesh, and within `max_distance`) is a sample; the result then has fewer samples
+    than `count`, and a UserWarning says how many, pointing at the caller's line.
     """
     mesh = checked_mesh(mesh)
     taken = _inputs.count(count, "count", maximum=2**64 - 1)
     start = _inputs.vertex_array(first, mesh.vertex_count, "first", lambda i: "source vertex")
+    if taken > max(mesh.vertex_count, len(start)):
+        raise ValueError(
+            f"count {taken} exceeds the mesh's {mesh.vertex_count} vertices: farthest-point samples are "
+            "distinct vertices"
+        )
     config = geodesic_options(max_distance, options)
     arrays = run_with_progress(
         progress, "samples", taken, lambda r: _core.farthest_point_sampling(mesh._core, taken, start, config, r)
     )
-    return Sampling(*arrays)
+    sampling = Sampling(*arrays)
+    if len(sampling.samples) < taken:
+        within = "" if max_distance is None else f" within max_distance={max_distance}"
+        warn(
+            f"farthest_point_sampling took {len(sampling.samples)} of the {taken} samples asked for: every vertex "
+            f"reachable from `first`{within} is a sample"
+        )
+    return sampling
