@@ -67,7 +67,23 @@ def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _
     return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **checked)
 
 
-@dataclasses.dataclass(frozen=True)
+def _number(value: float) -> str:
+    """A length or distance as a repr shows it: six significant digits, inf as inf."""
+    return f"{value:.6g}"
+
+
+def _point(point: np.ndarray) -> str:
+    return "(" + ", ".join(_number(c) for c in point) + ")"
+
+
+def _largest_finite(values: np.ndarray) -> str:
+    finite = values[np.isfinite(values)]
+    return _number(float(finite.max())) if finite.size else "none"
+
+
+# The results' reprs give counts, lengths and ends, never the arrays: a result printed in a notebook or a log
+# stays one line whatever the mesh's size.
+@dataclasses.dataclass(frozen=True, repr=False)
 class GeodesicResult:
     """What a run computed (C++: exactgeo::GeodesicResult)."""
 
@@ -77,8 +93,15 @@ class GeodesicResult:
     target_nearest_source: np.ndarray  # (targets,) int64
     stats: _core.GeodesicStats  # the engine's counters and its time, as attributes; .to_dict() for a dict
 
+    def __repr__(self) -> str:
+        unreachable = int(np.count_nonzero(np.isinf(self.distances)))
+        return (
+            f"exactgeo.GeodesicResult(vertices={len(self.distances)}, largest_distance="
+            f"{_largest_finite(self.distances)}, inf={unreachable}, targets={len(self.target_distances)})"
+        )
 
-@dataclasses.dataclass(frozen=True)
+
+@dataclasses.dataclass(frozen=True, repr=False)
 class GeodesicPath:
     """A shortest path from the nearest source to a point, straight inside each face (C++: exactgeo::GeodesicPath).
 
@@ -94,6 +117,14 @@ class GeodesicPath:
     face: np.ndarray  # (k,) int64: the input face of "face" points, -1 for the others
     length: float
     source: int  # index into the sources
+
+    def __repr__(self) -> str:
+        if len(self.points) == 0:
+            return "exactgeo.GeodesicPath(points=0, length=inf, source=-1)"
+        return (
+            f"exactgeo.GeodesicPath(points={len(self.points)}, length={_number(self.length)}, source={self.source}, "
+            f"start={_point(self.points[0])}, end={_point(self.points[-1])})"
+        )
 
     @classmethod
     def _of(cls, arrays: tuple) -> GeodesicPath:

@@ -143,7 +143,7 @@ def fill_distance_matrix(out: np.ndarray, mesh: Mesh, sources: VertexIndices, *,
     _fill(out, mesh, vertices, columns, has_targets, geodesic_options(None, {}), _workers(threads), None)
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, repr=False)
 class Sampling:
     """Result of farthest_point_sampling (C++: exactgeo::Sampling)."""
 
@@ -151,6 +151,11 @@ class Sampling:
     radii: np.ndarray  # (k,) float64: each sample's distance to the samples before it (inf for the first)
     distances: np.ndarray  # (vertex_count,) float64: to the nearest sample, inf where unreachable
     nearest_sample: np.ndarray  # (vertex_count,) int64: index into samples, -1 where unreachable
+
+    def __repr__(self) -> str:
+        # One line whatever the mesh's size, as the other results' reprs.
+        last_radius = f", last_radius={self.radii[-1]:.6g}" if len(self.radii) else ""
+        return f"exactgeo.Sampling(samples={len(self.samples)}, vertices={len(self.distances)}{last_radius})"
 
 
 def farthest_point_sampling(

@@ -109,6 +109,14 @@ def test_surface_point_sources_say_which_call_takes_them(sheet):
     assert exactgeo.distance(sheet, points[0]).shape == (sheet.vertex_count,)
 
 
+def test_sampling_repr_is_one_short_line(sheet):
+    sampling = exactgeo.farthest_point_sampling(sheet, 10)
+    assert repr(sampling) == (
+        f"exactgeo.Sampling(samples=10, vertices={sheet.vertex_count}, last_radius={sampling.radii[-1]:.6g})"
+    )
+    assert repr(exactgeo.farthest_point_sampling(sheet, 0)) == "exactgeo.Sampling(samples=0, vertices=0)"
+
+
 def test_without_scipy_a_cut_off_matrix_says_what_to_install(sheet, monkeypatch):
     monkeypatch.setitem(sys.modules, "scipy", None)
     monkeypatch.setitem(sys.modules, "scipy.sparse", None)
