@@ -170,7 +170,9 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
         (SQUARE, [["0", "1", "2"]], "faces must be integer indices, not dtype <U1"),
         (SQUARE, [[0, 1]], r"faces must have shape \(n, 3\), not \(1, 2\)"),
         (SQUARE, [0, 1, 2], r"faces must have shape \(n, 3\), not \(3,\)"),
-        ([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), not \(3, 2\)"),
+        ([[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3, 4\)"),
+        ([0, 0, 1], [[0, 1, 2]], r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3,\)"),
+        ([[0, 0], [1, 0], [0, 1j]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
         ([[0, 0, 1j], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
     ],
 )
@@ -251,6 +253,16 @@ def test_polygons_are_fan_triangulated_like_the_file_readers(tmp_path):
         exactgeo.Mesh(vertices, [[0, 1, 4], [1, 2]])
     with pytest.raises(ValueError, match="face 1 names vertex 9, but the mesh has 7 vertices"):
         exactgeo.Mesh(vertices, [[0, 1, 4, 5], [1, 2, 9]])
+
+
+def test_planar_vertices_are_taken_at_z_0():
+    planar = [[0, 0], [1, 0], [0, 1], [1, 1]]
+    faces = [[0, 1, 2], [1, 3, 2]]
+    mesh = exactgeo.Mesh(np.array(planar, dtype=np.int32), faces)
+    np.testing.assert_array_equal(mesh.vertices, [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    np.testing.assert_array_equal(exactgeo.distance(mesh, 0), exactgeo.distance(exactgeo.Mesh(mesh.vertices, faces), 0))
+    vertices, _ = exactgeo.subdivide_midpoint(planar, faces)
+    assert vertices.shape == (9, 3) and not vertices[:, 2].any()
 
 
 def test_seams_that_cut_the_surface_are_pointed_out_with_the_fix(tmp_path):
