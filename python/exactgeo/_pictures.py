@@ -195,7 +195,8 @@ def plot(
     edge_colours = item_colours.copy()
 
     figure = Figure(figsize=figsize, dpi=dpi)
-    axes = figure.add_subplot(projection="3d")
+    # Orthographic, as the shading above assumes: one viewing direction for every face.
+    axes = figure.add_subplot(projection="3d", proj_type="ortho")
     collection = Poly3DCollection(items, facecolors=item_colours, edgecolors=edge_colours, linewidths=0.7)
     axes.add_collection3d(collection)
     # Equal scales on the three axes, the box fitted to the mesh (at least 1/50 of its size in each).
@@ -205,19 +206,47 @@ def plot(
     axes.set_xlim(middle[0] - size[0] / 2, middle[0] + size[0] / 2)
     axes.set_ylim(middle[1] - size[1] / 2, middle[1] + size[1] / 2)
     axes.set_zlim(middle[2] - size[2] / 2, middle[2] + size[2] / 2)
-    try:
-        axes.set_box_aspect(tuple(size), zoom=1.3)
-    except TypeError:  # matplotlib before 3.6
-        axes.set_box_aspect(tuple(size))
     axes.view_init(elev=view[0], azim=view[1])
     axes.set_axis_off()
     mappable = ScalarMappable(norm=Normalize(low, high), cmap=_mpl_cmap(cmap))
     figure.colorbar(mappable, ax=axes, shrink=0.7, pad=0.02)
+    axes.set_box_aspect(tuple(size), zoom=_zoom_to_fit(axes, positions, middle, size))
     if title:
         axes.set_title(title)
     if file is not None:
         figure.savefig(file, dpi=dpi, bbox_inches="tight")
     return figure
+
+
+# How much of the axes' area, across and up, the mesh's picture may fill at most.
+_FILL = 0.95
+
+
+def _zoom_to_fit(axes: Any, points: np.ndarray, middle: np.ndarray, size: np.ndarray) -> float:
+    """The zoom at which the projection of every point lies inside the axes, _FILL of the way to its edges.
+
+    matplotlib scales the 3-D box to a fixed diagonal whatever its shape, so one zoom for every mesh would
+    either crop an elongated mesh (a beetle, a bone) or leave a round one small. Under the orthographic
+    projection the picture scales linearly with the zoom about the projection of the box's middle: the
+    points projected once at zoom 1 give the zoom that fits.
+    """
+    from mpl_toolkits.mplot3d import proj3d
+
+    axes.set_box_aspect(tuple(size), zoom=1.0)
+    axes.apply_aspect()  # the square area the axes draw in, as at drawing time
+    projection = axes.get_proj()
+    x, y, _ = proj3d.proj_transform(*points.T, projection)
+    centre_x, centre_y, _ = proj3d.proj_transform(*middle, projection)
+    picture = axes.transData.transform(np.column_stack([x, y]))
+    centre = axes.transData.transform([[centre_x, centre_y]])[0]
+    area = axes.bbox
+    reach = max(
+        (picture[:, 0].max() - centre[0]) / (area.x1 - centre[0]),
+        (centre[0] - picture[:, 0].min()) / (centre[0] - area.x0),
+        (picture[:, 1].max() - centre[1]) / (area.y1 - centre[1]),
+        (centre[1] - picture[:, 1].min()) / (centre[1] - area.y0),
+    )
+    return _FILL / reach if reach > 0 else 1.0
 
 
 # Which input axes the plot's x, y and z show, for each axis that points up: cyclic, so nothing is mirrored.

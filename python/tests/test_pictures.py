@@ -1,5 +1,5 @@
 """exactgeo.save_ply (read back by its header and numpy, and by trimesh and meshio where installed),
-exactgeo.plot (headless), and the docs' pictures script."""
+exactgeo.plot (headless, framing meshes of any shape), and the docs' pictures script."""
 
 from __future__ import annotations
 
@@ -184,6 +184,31 @@ def test_plot_isolines_path_and_options():
     assert items(exactgeo.plot(mesh, d, exactgeo.path(mesh, 0, 48), isolines=3, cmap="magma")) > mesh.face_count
     with pytest.raises(ValueError, match="up must be"):
         exactgeo.plot(mesh, d, up="w")
+
+
+@pytest.mark.parametrize("up", ["x", "y", "z"])
+def test_plot_frames_a_long_thin_mesh_whole_in_every_view(up):
+    pytest.importorskip("matplotlib")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from mpl_toolkits.mplot3d import proj3d
+
+    vertices, faces = exactgeo.make_grid(40, 2, 20.0, 1.0)  # 20 by 1
+    vertices[:, 2] = 0.2 * np.sin(vertices[:, 0])
+    mesh = exactgeo.Mesh(vertices, faces)
+    d = exactgeo.distance(mesh, 0)
+    for view in [(30, -60), (50, -70), (0, 0), (0, 90), (90, 0), (-20, 135)]:
+        figure = exactgeo.plot(mesh, d, view=view, up=up)
+        FigureCanvasAgg(figure).draw()  # the layout as drawn: the axes made square, the colour bar beside
+        axes = figure.axes[0]
+        x, y, _ = proj3d.proj_transform(*mesh.vertices[:, _pictures._UP[up]].T, axes.get_proj())
+        picture = axes.transData.transform(np.column_stack([x, y]))
+        area = axes.bbox
+        inside = (picture[:, 0] >= area.x0) & (picture[:, 0] <= area.x1)
+        inside &= (picture[:, 1] >= area.y0) & (picture[:, 1] <= area.y1)
+        assert inside.all(), f"view {view}: vertices {np.flatnonzero(~inside)[:5]} drawn outside the axes"
+        # Framed, not lost in the middle: the picture spans most of the axes across or up.
+        span = max(np.ptp(picture[:, 0]) / area.width, np.ptp(picture[:, 1]) / area.height)
+        assert span > 0.8, f"view {view}: the mesh spans {span:.2f} of the axes"
 
 
 def test_the_docs_pictures_script_runs(tmp_path):
