@@ -1,5 +1,6 @@
 """Pictures of a per-vertex field without plotting code: a coloured binary PLY for any mesh viewer
-(save_ply), and a shaded matplotlib figure with a colour bar, isolines and a path (plot)."""
+(save_ply), the values themselves for VTK-based tools (save_vtk), and a shaded matplotlib figure with a
+colour bar, isolines and a path (plot)."""
 
 from __future__ import annotations
 
@@ -112,6 +113,41 @@ def save_ply(
         file.write(header.encode("ascii"))
         file.write(vertex.tobytes())
         file.write(face.tobytes())
+
+
+def save_vtk(
+    path: str | os.PathLike[str], mesh: Mesh, values: Any, value_name: str = "distance"
+) -> None:
+    """Writes `mesh` as a legacy VTK file (binary), with `values` (one per vertex) as point data named
+    `value_name`, for ParaView, VisIt, pyvista and meshio: VTK's PLY reader keeps only a PLY's colours, not a
+    value property, so save_ply's values never reach those tools.
+
+    The layout, the command line's `distance --out d.vtk` byte for byte: "# vtk DataFile Version 3.0",
+    "written by exactgeo", BINARY, DATASET POLYDATA; POINTS n double (the mesh's vertices exactly); POLYGONS m
+    4m (3 and the corners of each triangle, int32); POINT_DATA n with SCALARS `value_name` double 1 and
+    LOOKUP_TABLE default (the values exactly, inf and NaN included). Numbers are big-endian, as the format
+    has them; a newline follows each block of them. Raises ValueError if `values` does not have one number per
+    vertex, naming both lengths.
+    """
+    surface = checked_mesh(mesh)
+    field = _per_vertex(values, surface)
+    if not value_name.isidentifier():
+        raise ValueError(f"value_name must be a plain name for a VTK array, not {value_name!r}")
+    polygons = np.empty((surface.face_count, 4), dtype=">i4")
+    polygons[:, 0] = 3
+    polygons[:, 1:] = surface.faces
+    blocks = [
+        "# vtk DataFile Version 3.0\nwritten by exactgeo\nBINARY\nDATASET POLYDATA\n"
+        f"POINTS {surface.vertex_count} double\n".encode("ascii"),
+        surface.vertices.astype(">f8").tobytes(),
+        f"\nPOLYGONS {surface.face_count} {4 * surface.face_count}\n".encode("ascii"),
+        polygons.tobytes(),
+        f"\nPOINT_DATA {surface.vertex_count}\nSCALARS {value_name} double 1\nLOOKUP_TABLE default\n".encode("ascii"),
+        field.astype(">f8").tobytes(),
+        b"\n",
+    ]
+    with open(path, "wb") as file:
+        file.writelines(blocks)
 
 
 def plot(
