@@ -242,9 +242,10 @@ Command add_distance_command(CLI::App& app) {
       ->type_name("R");
   add_list_option(*command, a.mesh, "--targets", a.targets,
                   "Targets: vertex indices (3,17,42) or points F:b0,b1,b2, separated by spaces, newlines or ';', "
-                  "as lists or files, a .npy array of vertex indices of any integer dtype, or - for standard input "
-                  "in any of these forms. Propagation stops once they are final; vertex distances are then exact "
-                  "up to the farthest target and inf beyond")
+                  "as lists or files; a CSV file with a vertex column (as sample --out s.csv writes) or a .npy "
+                  "array of vertex indices of any integer dtype; or - for standard input in any of these forms. "
+                  "Propagation stops once they are final; vertex distances are then exact up to the farthest "
+                  "target and inf beyond")
       ->type_name("FILE|LIST|-");
   command
       ->add_option("--targets-beyond", a.targets_beyond,

@@ -242,28 +242,6 @@ std::string element_origin(const ListInput& input, std::size_t element) {
   return input.origin + ": element [" + std::to_string(element) + "]";
 }
 
-}  // namespace
-
-std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
-                                                 const exactgeo::Mesh& mesh, const std::string& option) {
-  std::vector<exactgeo::SurfacePoint> targets;
-  for (const std::string& argument : arguments) {
-    const ListInput input = read_list_input(argument, option);
-    if (!input.npy) {
-      const std::vector<exactgeo::SurfacePoint> listed = parse_targets(input.bytes, mesh, input.origin);
-      targets.insert(targets.end(), listed.begin(), listed.end());
-      continue;
-    }
-    const std::vector<std::uint32_t> vertices = read_npy_indices(input.bytes, input.origin);
-    if (vertices.empty()) throw invalid_argument(input.origin + ": no target given");
-    for (std::size_t i = 0; i < vertices.size(); ++i)
-      targets.push_back(listed_vertex_point(mesh, vertices[i], element_origin(input, i)));
-  }
-  return targets;
-}
-
-namespace {
-
 // The position of the "vertex" column if the first line is a CSV header naming one (as `sample --out s.csv`
 // writes: sample,vertex,radius).
 std::optional<std::size_t> vertex_column(const std::string& text) {
@@ -324,19 +302,44 @@ std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std:
   return vertices;
 }
 
+namespace {
+
+// The vertices of a value holding vertices only (a .npy array, a list or CSV file of indices), each checked
+// against the mesh; a message names the value, and the element of a .npy array.
+std::vector<std::uint32_t> checked_vertices(const ListInput& input, const exactgeo::Mesh& mesh) {
+  const std::vector<std::uint32_t> vertices =
+      input.npy ? read_npy_indices(input.bytes, input.origin) : parse_vertex_list(input.bytes, input.origin);
+  if (vertices.empty()) throw invalid_argument(input.origin + ": no vertex given");
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    listed_vertex_point(mesh, vertices[i], input.npy ? element_origin(input, i) : input.origin);
+  return vertices;
+}
+
+}  // namespace
+
 std::vector<std::uint32_t> read_vertex_list(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
                                             const std::string& option) {
   std::vector<std::uint32_t> vertices;
   for (const std::string& argument : arguments) {
-    const ListInput input = read_list_input(argument, option);
-    const std::vector<std::uint32_t> listed =
-        input.npy ? read_npy_indices(input.bytes, input.origin) : parse_vertex_list(input.bytes, input.origin);
-    if (listed.empty()) throw invalid_argument(input.origin + ": no vertex given");
-    for (std::size_t i = 0; i < listed.size(); ++i)
-      listed_vertex_point(mesh, listed[i], input.npy ? element_origin(input, i) : input.origin);
+    const std::vector<std::uint32_t> listed = checked_vertices(read_list_input(argument, option), mesh);
     vertices.insert(vertices.end(), listed.begin(), listed.end());
   }
   return vertices;
+}
+
+std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
+                                                 const exactgeo::Mesh& mesh, const std::string& option) {
+  std::vector<exactgeo::SurfacePoint> targets;
+  for (const std::string& argument : arguments) {
+    const ListInput input = read_list_input(argument, option);
+    if (input.npy || vertex_column(input.bytes)) {
+      for (std::uint32_t v : checked_vertices(input, mesh)) targets.push_back(exactgeo::vertex_point(mesh, v));
+    } else {
+      const std::vector<exactgeo::SurfacePoint> listed = parse_targets(input.bytes, mesh, input.origin);
+      targets.insert(targets.end(), listed.begin(), listed.end());
+    }
+  }
+  return targets;
 }
 
 const CLI::Validator& distance_check() {

@@ -78,8 +78,9 @@ inline constexpr std::string_view kStandardInput = "-";
 // by commas. `text` is the argument itself or a file's contents; `origin` names it in messages.
 std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
                                                   const std::string& origin);
-// The targets of a list option (distance --targets), each value a list as above, a file holding one (text, or
-// a .npy array of vertex indices of any integer dtype) or "-" (standard input, in any form a file takes).
+// The targets of a list option (distance --targets), each value a list as above, a file holding one (text, a
+// CSV file with a vertex column, or a .npy array of vertex indices of any integer dtype) or "-" (standard
+// input, in any form a file takes).
 std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
                                                  const exactgeo::Mesh& mesh, const std::string& option);
 

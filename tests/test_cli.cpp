@@ -1066,6 +1066,14 @@ TEST_F(Cli, SamplesReachMatrixAsNpyAndThroughStandardInput) {
                                "' matrix @icosphere:2 --sources - --quiet --out piped.npy 2>err";
   ASSERT_EQ(std::system(pipeline.c_str()), 0) << read_file(path("err"));
   EXPECT_EQ(read_file(path("piped.npy")), read_file(path("expected.npy")));
+  // distance --targets takes sample's CSV too, piped in.
+  ASSERT_EQ(run("distance @icosphere:2 --source 0 --targets " + arg("s.txt") + " --target-out " + arg("s.csv")).exit_code,
+            0);
+  const std::string sampled_targets = "cd '" + path("").string() + "' && '" EXACTGEO_CLI_PATH
+                                      "' sample @icosphere:2 -k 6 --out - --quiet | '" EXACTGEO_CLI_PATH
+                                      "' distance @icosphere:2 --source 0 --targets - --target-out piped.csv 2>err";
+  ASSERT_EQ(std::system(sampled_targets.c_str()), 0) << read_file(path("err"));
+  EXPECT_EQ(read_file(path("piped.csv")), read_file(path("s.csv")));
   write_file(path("targets.txt"), "5\n9;3:0.2,0.3,0.5\n");
   const std::string targets_to_csv = "distance @icosphere:2 --source 0 --targets " + arg("targets.txt");
   ASSERT_EQ(run(targets_to_csv + " --target-out " + arg("t.csv")).exit_code, 0);
