@@ -173,7 +173,7 @@ int run_distance(const DistanceArguments& arguments) {
   const Sources sources = read_sources(arguments.sources, mesh);
   const std::vector<exactgeo::SurfacePoint> targets =
       arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>()
-                                : parse_targets(list_text(arguments.targets), mesh, "--targets");
+                                : read_targets(arguments.targets, mesh, "--targets");
   // --targets-beyond exact: the run goes on until every target is final, whatever the cut-off; the cut-off
   // then applies to the vertex distances alone.
   const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";
@@ -241,10 +241,12 @@ Command add_distance_command(CLI::App& app) {
       ->check(distance_check())
       ->type_name("R");
   add_list_option(*command, a.mesh, "--targets", a.targets,
-                  "Targets, as files or lists: vertex indices (3,17,42) or points F:b0,b1,b2, separated by "
-                  "spaces, newlines or ';'. Propagation stops once they are final; vertex distances are then "
-                  "exact up to the farthest target and inf beyond")
-      ->type_name("FILE|LIST");
+                  "Targets: vertex indices (3,17,42) or points F:b0,b1,b2, separated by spaces, newlines or ';', "
+                  "as lists or files; a CSV file with a vertex column (as sample --out s.csv writes) or a .npy "
+                  "array of vertex indices of any integer dtype; or - for standard input in any of these forms. "
+                  "Propagation stops once they are final; vertex distances are then exact up to the farthest "
+                  "target and inf beyond")
+      ->type_name("FILE|LIST|-");
   command
       ->add_option("--targets-beyond", a.targets_beyond,
                    "What targets farther than --max-distance get: inf (default; the run stops at the cut-off) or "
@@ -257,8 +259,9 @@ Command add_distance_command(CLI::App& app) {
   add_output_option(*command, "--out", a.out,
                     "Write one distance per vertex in input order: .txt (%.17g, 'inf' if unreachable), "
                     ".csv (vertex,distance; - writes it to stdout), .npy (float64), .ply (the mesh, binary: float "
-                    "coordinates, a double distance property and colours) or .ascii.ply (the same as text, the "
-                    "coordinates as doubles too)",
+                    "coordinates, a double distance property and colours; VTK-based tools such as ParaView keep "
+                    "only the colours), .ascii.ply (the same as text, the coordinates as doubles too) or .vtk (the "
+                    "mesh with the distance as point data, legacy VTK binary, for ParaView, VisIt and pyvista)",
                     kVertexValueFormats, "output");
   add_output_option(*command, "--target-out", a.target_out,
                     "Write one distance per target: .txt, .csv (target,distance; - writes it to stdout) or .npy; "

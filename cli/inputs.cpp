@@ -2,12 +2,20 @@
 #include "inputs.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
 #include <system_error>
+
+#include "npy.hpp"
+#include "outputs.hpp"
 
 namespace exactgeo::cli {
 namespace {
@@ -102,6 +110,37 @@ const exactgeo::GeodesicResult& solve(exactgeo::GeodesicSolver& solver, const So
   return solver.solve(sources.vertices, targets, options);
 }
 
+namespace {
+
+// A token of a list, quoted for a message: bytes outside printable ASCII as \xNN, and at most 40 characters,
+// so that a binary file taken for a list cannot garble the terminal.
+std::string token_text(std::string_view token) {
+  constexpr std::size_t kLongest = 40;
+  std::string text = "'";
+  for (std::size_t i = 0; i < token.size() && i < kLongest; ++i) {
+    const auto byte = static_cast<unsigned char>(token[i]);
+    if (byte >= 0x20 && byte < 0x7f) {
+      text += static_cast<char>(byte);
+    } else {
+      constexpr char kHex[] = "0123456789ABCDEF";
+      text += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xf]};
+    }
+  }
+  return text + (token.size() > kLongest ? "...'" : "'");
+}
+
+// The point at vertex `v`; the library's message for a vertex out of range or used by no face gets `where`
+// in front.
+exactgeo::SurfacePoint listed_vertex_point(const exactgeo::Mesh& mesh, std::uint32_t v, const std::string& where) {
+  try {
+    return exactgeo::vertex_point(mesh, v);
+  } catch (const exactgeo::Error& e) {
+    throw exactgeo::Error(e.code(), where + ": " + e.what());
+  }
+}
+
+}  // namespace
+
 std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
                                                   const std::string& origin) {
   std::vector<exactgeo::SurfacePoint> targets;
@@ -113,7 +152,8 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
       if (part.empty()) continue;
       if (part.find(':') != std::string::npos) {
         const auto point = parse_surface_point(part);
-        if (!point) throw invalid_argument(origin + ": target '" + part + "' is not a surface point F:b0,b1,b2");
+        if (!point)
+          throw invalid_argument(origin + ": target " + token_text(part) + " is not a surface point F:b0,b1,b2");
         targets.push_back(*point);
         continue;
       }
@@ -121,9 +161,9 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
       for (std::string index; std::getline(vertices, index, ',');) {
         const auto v = parse_vertex(index);
         if (!v)
-          throw invalid_argument(origin + ": target '" + index +
-                                 "' is neither a vertex index nor a point F:b0,b1,b2");
-        targets.push_back(exactgeo::vertex_point(mesh, *v));
+          throw invalid_argument(origin + ": target " + token_text(index) +
+                                 " is neither a vertex index nor a point F:b0,b1,b2");
+        targets.push_back(listed_vertex_point(mesh, *v, origin));
       }
     }
   }
@@ -131,28 +171,76 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
   return targets;
 }
 
-std::string list_text(const std::string& argument) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(argument, error)) {
-    // A list never holds a '/': this was meant as a file.
-    if (argument.find('/') != std::string::npos)
-      throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "': no such file");
-    return argument;
-  }
-  std::ifstream file(argument, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (!file && !file.eof()) throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "'");
-  return text.str();
-}
-
-std::string list_text(const std::vector<std::string>& arguments) {
-  std::string text;
-  for (const std::string& argument : arguments) text += list_text(argument) + "\n";
-  return text;
-}
-
 namespace {
+
+// One value of a list option, read: a file's bytes (standard input's for "-"), or the value itself.
+struct ListInput {
+  std::string bytes;
+  std::string origin;  // in messages: "--sources 's.npy'", "--sources (standard input)" or "--sources"
+  bool npy;            // a .npy array, by its first bytes (or its name, so that a damaged one says so)
+};
+
+std::string standard_input() {
+  std::string bytes;
+  std::array<char, 1 << 16> buffer;
+  for (std::size_t n; (n = std::fread(buffer.data(), 1, buffer.size(), stdin)) > 0;) bytes.append(buffer.data(), n);
+  if (std::ferror(stdin))
+    throw exactgeo::Error(exactgeo::ErrorCode::io_error,
+                          std::string("cannot read standard input: ") + std::strerror(errno));
+  return bytes;
+}
+
+// A list never holds a '/' nor ends in a file's extension: such a value was meant as a file.
+bool names_a_file(const std::string& argument) {
+  return argument.find('/') != std::string::npos ||
+         std::ranges::any_of(std::array{".npy", ".txt", ".csv"},
+                             [&](const char* extension) { return has_extension(argument, extension); });
+}
+
+// Text as lists are written: no control characters but white space, so that a binary file other than a .npy
+// is refused as a whole rather than token by token.
+bool is_text(std::string_view bytes) {
+  return std::ranges::none_of(bytes, [](char c) {
+    const auto byte = static_cast<unsigned char>(c);
+    return (byte < 0x20 && !std::isspace(byte)) || byte == 0x7f;
+  });
+}
+
+ListInput read_list_input(const std::string& argument, const std::string& option) {
+  ListInput input;
+  std::error_code error;
+  if (argument == kStandardInput) {
+    input.bytes = standard_input();
+    input.origin = option + " (standard input)";
+  } else if (std::filesystem::is_regular_file(argument, error)) {
+    std::ifstream file(argument, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << file.rdbuf();
+    if (!file && !file.eof()) throw exactgeo::Error(exactgeo::ErrorCode::io_error, "cannot read '" + argument + "'");
+    input.bytes = bytes.str();
+    input.origin = option + " '" + argument + "'";
+  } else if (names_a_file(argument)) {
+    const bool exists = std::filesystem::exists(argument, error);
+    throw exactgeo::Error(exactgeo::ErrorCode::io_error, option + ": cannot read '" + argument + "': " +
+                                                             (exists ? "not a regular file" : "no such file"));
+  } else {
+    input.bytes = argument;
+    input.origin = option;
+  }
+  input.npy = is_npy(input.bytes) || (input.origin != option && has_extension(argument, ".npy"));
+  if (input.npy) return input;
+  // A byte order mark, as spreadsheet programs begin their CSV files with, is no part of the list.
+  constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+  if (input.bytes.starts_with(kUtf8ByteOrderMark)) input.bytes.erase(0, kUtf8ByteOrderMark.size());
+  if (!is_text(input.bytes))
+    throw invalid_argument(input.origin +
+                           ": binary data, not a list (a .npy array of integers, text, or CSV with a vertex column)");
+  return input;
+}
+
+std::string element_origin(const ListInput& input, std::size_t element) {
+  return input.origin + ": element [" + std::to_string(element) + "]";
+}
 
 // The position of the "vertex" column if the first line is a CSV header naming one (as `sample --out s.csv`
 // writes: sample,vertex,radius).
@@ -163,10 +251,6 @@ std::optional<std::size_t> vertex_column(const std::string& text) {
     if (name == "vertex") return position;
   return std::nullopt;
 }
-
-}  // namespace
-
-namespace {
 
 // The `column` field of each row after the header line.
 std::vector<std::uint32_t> csv_column_vertices(const std::string& text, std::size_t column, const std::string& origin) {
@@ -182,7 +266,9 @@ std::vector<std::uint32_t> csv_column_vertices(const std::string& text, std::siz
     for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
     const std::string field = column < fields.size() ? fields[column] : "";
     const auto v = parse_vertex(field);
-    if (!v) throw invalid_argument(origin + ": line " + std::to_string(row) + ": '" + field + "' is not a vertex index");
+    if (!v)
+      throw invalid_argument(origin + ": line " + std::to_string(row) + ": " + token_text(field) +
+                             " is not a vertex index");
     vertices.push_back(*v);
   }
   return vertices;
@@ -199,7 +285,7 @@ std::vector<std::uint32_t> listed_vertices(const std::string& text, const std::s
     for (std::string index; std::getline(parts, index, ',');) {
       if (index.empty()) continue;
       const auto v = parse_vertex(index);
-      if (!v) throw invalid_argument(origin + ": '" + index + "' is not a vertex index");
+      if (!v) throw invalid_argument(origin + ": " + token_text(index) + " is not a vertex index");
       vertices.push_back(*v);
     }
   }
@@ -216,13 +302,44 @@ std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std:
   return vertices;
 }
 
-std::vector<std::uint32_t> parse_vertex_list(const std::vector<std::string>& arguments, const std::string& origin) {
+namespace {
+
+// The vertices of a value holding vertices only (a .npy array, a list or CSV file of indices), each checked
+// against the mesh; a message names the value, and the element of a .npy array.
+std::vector<std::uint32_t> checked_vertices(const ListInput& input, const exactgeo::Mesh& mesh) {
+  const std::vector<std::uint32_t> vertices =
+      input.npy ? read_npy_indices(input.bytes, input.origin) : parse_vertex_list(input.bytes, input.origin);
+  if (vertices.empty()) throw invalid_argument(input.origin + ": no vertex given");
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    listed_vertex_point(mesh, vertices[i], input.npy ? element_origin(input, i) : input.origin);
+  return vertices;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> read_vertex_list(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
+                                            const std::string& option) {
   std::vector<std::uint32_t> vertices;
   for (const std::string& argument : arguments) {
-    const std::vector<std::uint32_t> listed = parse_vertex_list(list_text(argument), origin);
+    const std::vector<std::uint32_t> listed = checked_vertices(read_list_input(argument, option), mesh);
     vertices.insert(vertices.end(), listed.begin(), listed.end());
   }
   return vertices;
+}
+
+std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
+                                                 const exactgeo::Mesh& mesh, const std::string& option) {
+  std::vector<exactgeo::SurfacePoint> targets;
+  for (const std::string& argument : arguments) {
+    const ListInput input = read_list_input(argument, option);
+    if (input.npy || vertex_column(input.bytes)) {
+      for (std::uint32_t v : checked_vertices(input, mesh)) targets.push_back(exactgeo::vertex_point(mesh, v));
+    } else {
+      const std::vector<exactgeo::SurfacePoint> listed = parse_targets(input.bytes, mesh, input.origin);
+      targets.insert(targets.end(), listed.begin(), listed.end());
+    }
+  }
+  return targets;
 }
 
 const CLI::Validator& distance_check() {

@@ -71,19 +71,27 @@ const exactgeo::GeodesicResult& solve(exactgeo::GeodesicSolver& solver, const So
                                       std::span<const exactgeo::SurfacePoint> targets,
                                       const exactgeo::GeodesicOptions& options);
 
+// "-" as a list option's value: standard input, read whole. One value of the command can be "-".
+inline constexpr std::string_view kStandardInput = "-";
+
 // Targets: entries separated by spaces, newlines or ';', each a point F:b0,b1,b2 or vertex indices separated
-// by commas. `text` is a file's contents or the argument itself; `origin` names the option in messages.
+// by commas. `text` is the argument itself or a file's contents; `origin` names it in messages.
 std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
                                                   const std::string& origin);
+// The targets of a list option (distance --targets), each value a list as above, a file holding one (text, a
+// CSV file with a vertex column, or a .npy array of vertex indices of any integer dtype) or "-" (standard
+// input, in any form a file takes).
+std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
+                                                 const exactgeo::Mesh& mesh, const std::string& option);
 
-// A list argument: the contents of the file it names if there is one, else the argument itself.
-std::string list_text(const std::string& argument);
-// The values of a list option, each a file or a list, one after the other.
-std::string list_text(const std::vector<std::string>& arguments);
 // Vertex indices separated by spaces, newlines, ',' or ';'.
 std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin);
-// The same for each value of a list option (a file, a CSV file with a vertex column, or a list), concatenated.
-std::vector<std::uint32_t> parse_vertex_list(const std::vector<std::string>& arguments, const std::string& origin);
+// The vertices of a list option (matrix --sources and --targets), each value a list as above, a file (text as
+// above, a CSV file with a vertex column, or a .npy array of any integer dtype) or "-" (standard input, in any
+// form a file takes), concatenated. Each is checked against the mesh (in range and used by a face); a message
+// names the value, and the element of a .npy array, at fault.
+std::vector<std::uint32_t> read_vertex_list(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
+                                            const std::string& option);
 
 // --threads for commands that run one propagation: how many threads share it. Unset, the library's
 // recommendation for the mesh (every core on large meshes); 0, one per core.

@@ -64,17 +64,15 @@ int run_matrix(const MatrixArguments& arguments) {
   if (!arguments.status.empty()) return print_store_status(arguments.status, arguments.verify);
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
-  const std::vector<std::uint32_t> sources = parse_vertex_list(arguments.sources, "--sources");
+  // Read and checked before the output is created, so that a bad vertex leaves an existing file as it was.
+  const std::vector<std::uint32_t> sources = read_vertex_list(arguments.sources, mesh, "--sources");
   exactgeo::MatrixOptions options;
   options.geodesic.max_distance = arguments.max_distance;
   options.threads = arguments.threads;
-  if (!arguments.targets.empty()) options.target_vertices = parse_vertex_list(arguments.targets, "--targets");
+  if (!arguments.targets.empty()) options.target_vertices = read_vertex_list(arguments.targets, mesh, "--targets");
   const std::size_t columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
   std::span<const std::uint32_t> targets;
   if (options.target_vertices) targets = *options.target_vertices;
-  // Checked before the output is created, so that a bad vertex leaves an existing file as it was.
-  for (std::uint32_t v : sources) exactgeo::vertex_point(mesh, v);
-  for (std::uint32_t v : targets) exactgeo::vertex_point(mesh, v);
   StoreRequest store{.mesh = &mesh,
                      .weld = arguments.mesh.weld,
                      .max_distance = std::nullopt,
@@ -128,12 +126,14 @@ Command add_matrix_command(CLI::App& app) {
   add_mesh_options(*command, arguments->mesh);
   CLI::Option* sources = add_list_option(
       *command, arguments->mesh, "--sources", arguments->sources,
-      "Source vertices (the rows), as files or lists, separated by spaces, newlines, ',' or ';', or a CSV "
-      "file with a vertex column (as sample --out s.csv writes)")->type_name("FILE|LIST");
+      "Source vertices (the rows): lists (0,5 9), files (indices separated by spaces, newlines, ',' or ';'; a "
+      "CSV file with a vertex column, as sample --out s.csv writes; a .npy array of any integer dtype, as "
+      "sample --out s.npy writes) or - for standard input in any of these forms (sample ... --out - | matrix "
+      "... --sources -)")->type_name("FILE|LIST|-");
   CLI::Option* targets = add_list_option(
       *command, arguments->mesh, "--targets", arguments->targets,
       "Target vertices (the columns, in their order; default every vertex), in the same forms; each "
-      "run stops once they are final")->type_name("FILE|LIST");
+      "run stops once they are final")->type_name("FILE|LIST|-");
   CLI::Option* max_distance =
       command->add_option("--max-distance", arguments->max_distance,
                           "Cut-off: entries beyond it are inf (or left out), targets too (leave it out to have every "

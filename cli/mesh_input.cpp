@@ -111,6 +111,14 @@ void add_mesh_options(CLI::App& command, MeshArguments& mesh) {
       list.values->erase(std::next(named).base());
     }
     if (mesh.name.empty() && !(mesh.mesh_unused && mesh.mesh_unused())) throw CLI::RequiredError("MESH");
+    // Standard input is read once, whole: by one value.
+    std::vector<std::string> reading_stdin;
+    for (const ListOption& list : mesh.lists)
+      for (const std::string& value : *list.values)
+        if (value == kStandardInput) reading_stdin.push_back(list.option->get_name());
+    if (reading_stdin.size() > 1)
+      throw CLI::ValidationError(reading_stdin[1], "standard input (-) can feed one list, and " + reading_stdin[0] +
+                                                       " reads it already: give the other a file");
     // A malformed built-in name is a usage error; file paths are checked when read.
     if (mesh.name.starts_with('@') && !parse_builtin_mesh(mesh.name))
       throw CLI::ValidationError("MESH", "unknown built-in mesh '" + mesh.name +

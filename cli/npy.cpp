@@ -3,9 +3,13 @@
 #include <array>
 #include <bit>
 #include <cerrno>
+#include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
+#include <optional>
+#include <system_error>
 #include <utility>
 
 #include "exactgeo/error.hpp"
@@ -104,6 +108,161 @@ std::FILE* GrowingNpy::finish() {
   if (std::fflush(file_) != 0 || std::ferror(file_)) throw temporary_file_error();
   std::rewind(file_);
   return std::exchange(file_, nullptr);
+}
+
+namespace {
+
+constexpr std::string_view kNpyMagic = "\x93NUMPY";
+
+exactgeo::Error npy_error(const std::string& name, const std::string& why) {
+  return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, name + ": " + why);
+}
+
+// The text after `'key':` in the header's dict, spaces skipped; empty if the key is not there. NumPy writes
+// the dict as Python's repr does (single quotes); double quotes are taken too.
+std::string_view header_field(std::string_view header, std::string_view key) {
+  for (const char quote : {'\'', '"'}) {
+    const std::string quoted = quote + std::string(key) + quote;
+    std::size_t at = header.find(quoted);
+    if (at == std::string_view::npos) continue;
+    at = header.find_first_not_of(' ', at + quoted.size());
+    if (at == std::string_view::npos || header[at] != ':') continue;
+    at = header.find_first_not_of(' ', at + 1);
+    return at == std::string_view::npos ? std::string_view() : header.substr(at);
+  }
+  return {};
+}
+
+// A dtype string such as '<i8', '>u2' or '|u1': byte order, kind and size in bytes.
+struct Dtype {
+  char order = '|';
+  char kind = 0;
+  std::size_t bytes = 0;
+};
+
+std::optional<Dtype> parse_descr(std::string_view descr) {
+  Dtype dtype;
+  if (!descr.empty() && std::string_view("<>|=").find(descr.front()) != std::string_view::npos) {
+    dtype.order = descr.front();
+    descr.remove_prefix(1);
+  }
+  if (descr.size() < 2) return std::nullopt;
+  dtype.kind = descr.front();
+  const auto [end, error] = std::from_chars(descr.data() + 1, descr.data() + descr.size(), dtype.bytes);
+  if (error != std::errc() || end != descr.data() + descr.size()) return std::nullopt;
+  return dtype;
+}
+
+// NumPy's name for a dtype in messages: float64, int32, bool; the descr itself for the rarer kinds.
+std::string dtype_name(const Dtype& dtype, std::string_view descr) {
+  switch (dtype.kind) {
+    case 'f': return "float" + std::to_string(8 * dtype.bytes);
+    case 'i': return "int" + std::to_string(8 * dtype.bytes);
+    case 'u': return "uint" + std::to_string(8 * dtype.bytes);
+    case 'b': return "bool";
+    default: return "'" + std::string(descr) + "'";
+  }
+}
+
+// The sizes inside the shape's parentheses, "(10,)" or "(3, 2)"; nullopt if malformed.
+std::optional<std::vector<std::size_t>> parse_shape(std::string_view field) {
+  if (field.empty() || field.front() != '(') return std::nullopt;
+  const std::size_t close = field.find(')');
+  if (close == std::string_view::npos) return std::nullopt;
+  std::vector<std::size_t> shape;
+  std::string_view sizes = field.substr(1, close - 1);
+  while (true) {
+    const std::size_t start = sizes.find_first_not_of(' ');
+    if (start == std::string_view::npos) break;
+    sizes.remove_prefix(start);
+    std::size_t size = 0;
+    const auto [end, error] = std::from_chars(sizes.data(), sizes.data() + sizes.size(), size);
+    if (error != std::errc()) return std::nullopt;
+    shape.push_back(size);
+    sizes.remove_prefix(static_cast<std::size_t>(end - sizes.data()));
+    const std::size_t next = sizes.find_first_not_of(' ');
+    if (next == std::string_view::npos) break;
+    if (sizes[next] != ',') return std::nullopt;
+    sizes.remove_prefix(next + 1);
+  }
+  return shape;
+}
+
+std::string shape_text(const std::vector<std::size_t>& shape) {
+  std::string text = "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) text += (i ? ", " : "") + std::to_string(shape[i]);
+  return text + (shape.size() == 1 ? ",)" : ")");
+}
+
+}  // namespace
+
+bool is_npy(std::string_view bytes) { return bytes.starts_with(kNpyMagic); }
+
+std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name) {
+  if (!is_npy(bytes)) throw npy_error(name, "not a .npy file (it does not begin with \\x93NUMPY)");
+  // Version 1.0 gives the header's length in 2 bytes; 2.0 and 3.0 (a UTF-8 header) in 4.
+  constexpr std::size_t kVersionAt = 6;
+  if (bytes.size() < kVersionAt + 2) throw npy_error(name, "the .npy header is cut short");
+  const int major = static_cast<unsigned char>(bytes[kVersionAt]);
+  if (major < 1 || major > 3)
+    throw npy_error(name, ".npy format version " + std::to_string(major) + " is not one this reader knows (1 to 3)");
+  const std::size_t length_bytes = major == 1 ? 2 : 4;
+  const std::size_t header_at = kVersionAt + 2 + length_bytes;
+  if (bytes.size() < header_at) throw npy_error(name, "the .npy header is cut short");
+  std::size_t header_length = 0;
+  for (std::size_t k = 0; k < length_bytes; ++k)
+    header_length |= std::size_t{static_cast<unsigned char>(bytes[kVersionAt + 2 + k])} << (8 * k);
+  if (bytes.size() - header_at < header_length) throw npy_error(name, "the .npy header is cut short");
+  const std::string_view header = bytes.substr(header_at, header_length);
+  const std::string_view data = bytes.substr(header_at + header_length);
+
+  const std::string_view descr_field = header_field(header, "descr");
+  if (descr_field.starts_with('['))
+    throw npy_error(name, "holds records (a structured dtype), not integers: save a plain integer array");
+  const char quote = descr_field.empty() ? 0 : descr_field.front();
+  const std::size_t descr_end = quote ? descr_field.find(quote, 1) : std::string_view::npos;
+  if ((quote != '\'' && quote != '"') || descr_end == std::string_view::npos)
+    throw npy_error(name, "the .npy header has no dtype ('descr')");
+  const std::string_view descr = descr_field.substr(1, descr_end - 1);
+  const std::optional<Dtype> dtype = parse_descr(descr);
+  if (!dtype) throw npy_error(name, "the .npy header's dtype '" + std::string(descr) + "' is malformed");
+  const bool integer = (dtype->kind == 'i' || dtype->kind == 'u') &&
+                       (dtype->bytes == 1 || dtype->bytes == 2 || dtype->bytes == 4 || dtype->bytes == 8);
+  if (!integer)
+    throw npy_error(name, "holds " + dtype_name(*dtype, descr) +
+                              " values; indices must be integers (save it as an int or uint array, e.g. "
+                              "a.astype(numpy.int64))");
+  const std::optional<std::vector<std::size_t>> shape = parse_shape(header_field(header, "shape"));
+  if (!shape) throw npy_error(name, "the .npy header has no shape, or a malformed one");
+  if (shape->size() != 1)
+    throw npy_error(name, "holds an array of shape " + shape_text(*shape) + "; indices must be a 1-D array");
+  const std::size_t count = shape->front();
+  if (count > data.size() / dtype->bytes || count * dtype->bytes != data.size())
+    throw npy_error(name, "the header says " + std::to_string(count) + " values of " + std::to_string(dtype->bytes) +
+                              " bytes, but " + std::to_string(data.size()) + " bytes of data follow it");
+
+  const bool big_endian = dtype->order == '>' || (dtype->order == '=' && std::endian::native == std::endian::big);
+  const bool is_signed = dtype->kind == 'i';
+  const unsigned bits = static_cast<unsigned>(8 * dtype->bytes);
+  std::vector<std::uint32_t> indices(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    std::uint64_t value = 0;
+    for (std::size_t k = 0; k < dtype->bytes; ++k) {
+      const std::size_t byte = big_endian ? dtype->bytes - 1 - k : k;
+      value |= std::uint64_t{static_cast<unsigned char>(data[i * dtype->bytes + byte])} << (8 * k);
+    }
+    const bool negative = is_signed && (value >> (bits - 1)) != 0;
+    if (negative || value > std::numeric_limits<std::uint32_t>::max()) {
+      // Sign-extended to 64 bits to be printed as the negative number it is.
+      const std::string text = negative ? std::to_string(static_cast<std::int64_t>(
+                                              bits == 64 ? value : value | (~std::uint64_t{0} << bits)))
+                                        : std::to_string(value);
+      throw npy_error(name, "element [" + std::to_string(i) + "] is " + text + ", not an index (0 to " +
+                                std::to_string(std::numeric_limits<std::uint32_t>::max()) + ")");
+    }
+    indices[i] = static_cast<std::uint32_t>(value);
+  }
+  return indices;
 }
 
 namespace {

@@ -1,5 +1,6 @@
 // NumPy's file formats: .npy (one array: a short text header, then the raw data) and .npz (a zip of .npy
-// files, written here: stored, as numpy.savez does), which numpy.load and scipy.sparse.load_npz read.
+// files, written here: stored, as numpy.savez does), which numpy.load and scipy.sparse.load_npz read; and
+// .npy arrays of indices read back, as numpy.save writes them.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +20,16 @@ std::string npy_header(std::string_view descr, std::span<const std::size_t> shap
 // A whole .npy file: the header, then `data` (little-endian bytes of the shape's values).
 void write_npy(std::FILE* file, std::string_view descr, std::span<const std::size_t> shape,
                std::span<const unsigned char> data);
+
+// Whether `bytes` begins as a .npy file does.
+bool is_npy(std::string_view bytes);
+
+// The values of a 1-D .npy array of integers (int8 to int64 or uint8 to uint64, either byte order; format
+// versions 1.0 to 3.0) as 32-bit indices, the library's type. `bytes` is the whole file; `name` begins every
+// message. Throws exactgeo::Error(invalid_argument) for anything else, naming the element at fault where one
+// is: not a .npy file, another dtype (floats, booleans, records), another shape, data shorter or longer than
+// the header says, a negative value or one of 2^32 or more.
+std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name);
 
 // Little-endian bytes of values, as .npy data and Zarr chunks.
 std::vector<unsigned char> little_endian_bytes(std::span<const double> values);

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
@@ -141,12 +142,52 @@ void write_values_ply(std::FILE* file, const Values& values) {
   std::fwrite(bytes.data(), 1, bytes.size(), file);
 }
 
-constexpr std::array<Format<ValuesWriter>, 5> kVertexValueFormatTable = {{
+// Big-endian bytes of a 32- or 64-bit value, as legacy VTK files store binary data.
+template <class T>
+void append_big_endian(std::vector<unsigned char>& bytes, T value) {
+  using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+  const auto bits = std::bit_cast<Bits>(value);
+  for (int byte = sizeof(T) - 1; byte >= 0; --byte) bytes.push_back(static_cast<unsigned char>(bits >> (8 * byte)));
+}
+
+// The mesh as a legacy VTK file (.vtk), binary, for ParaView, VisIt, pyvista and meshio: VTK's PLY reader
+// keeps only positions, normals, texture coordinates and colours, so a .ply's distance never reaches them.
+// POINTS as doubles (the input positions exactly), POLYGONS, and POINT_DATA with SCALARS distance double
+// (the .npy's values, inf where unreachable) and with labels SCALARS nearest_source int (-1 where none).
+// The layout exactgeo.save_vtk writes too, byte for byte.
+void write_values_vtk(std::FILE* file, const Values& values) {
+  const exactgeo::Mesh& mesh = *values.mesh;
+  const auto positions = mesh.positions();
+  const auto triangles = mesh.triangles();
+  std::vector<unsigned char> bytes;
+  const auto text = [&](const std::string& line) { bytes.insert(bytes.end(), line.begin(), line.end()); };
+  text("# vtk DataFile Version 3.0\nwritten by exactgeo\nBINARY\nDATASET POLYDATA\n");
+  text("POINTS " + std::to_string(mesh.vertex_count()) + " double\n");
+  for (const double coordinate : positions) append_big_endian(bytes, coordinate);
+  text("\nPOLYGONS " + std::to_string(mesh.face_count()) + " " + std::to_string(4 * mesh.face_count()) + "\n");
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    append_big_endian(bytes, std::int32_t{3});
+    for (int k = 0; k < 3; ++k) append_big_endian(bytes, triangles[3 * f + k]);
+  }
+  text("\nPOINT_DATA " + std::to_string(mesh.vertex_count()) + "\nSCALARS distance double 1\nLOOKUP_TABLE default\n");
+  for (const double distance : values.distances) append_big_endian(bytes, distance);
+  text("\n");
+  if (!values.labels.empty()) {
+    text("SCALARS nearest_source int 1\nLOOKUP_TABLE default\n");
+    for (const std::uint32_t label : values.labels)
+      append_big_endian(bytes, static_cast<std::int32_t>(label_value(label)));
+    text("\n");
+  }
+  std::fwrite(bytes.data(), 1, bytes.size(), file);
+}
+
+constexpr std::array<Format<ValuesWriter>, 6> kVertexValueFormatTable = {{
     {".txt", write_values_txt},
     {".csv", write_values_csv},
     {".npy", write_values_npy},
     {".ascii.ply", write_values_ascii_ply},  // before .ply, which it ends with
     {".ply", write_values_ply},
+    {".vtk", write_values_vtk},
 }};
 // Per-target values have no mesh to colour, so no .ply.
 constexpr std::array<Format<ValuesWriter>, 3> kTargetValueFormatTable = {{

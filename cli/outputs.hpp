@@ -103,7 +103,7 @@ struct Values {
   const exactgeo::Mesh* mesh;             // the mesh the values belong to (.ply), or null for targets
 };
 using ValuesWriter = void (*)(std::FILE*, const Values&);
-extern const std::span<const Format<ValuesWriter>> kVertexValueFormats;  // .txt .csv .npy .ascii.ply .ply
+extern const std::span<const Format<ValuesWriter>> kVertexValueFormats;  // .txt .csv .npy .ascii.ply .ply .vtk
 extern const std::span<const Format<ValuesWriter>> kTargetValueFormats;  // .txt .csv .npy
 void write_values(const std::string& path, std::span<const Format<ValuesWriter>> formats, const Values& values);
 

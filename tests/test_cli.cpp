@@ -407,7 +407,7 @@ TEST_F(Cli, HelpExitsZero) {
 // What --out's help says the PLY files hold is what the PLY tests below read: it once called the distance a float.
 TEST_F(Cli, HelpSaysWhatThePlyFilesHold) {
   const RunResult result = run("distance --help");
-  EXPECT_NE(result.out.find(".ply (the mesh, binary: float coordinates, a double distance property and colours)"),
+  EXPECT_NE(result.out.find(".ply (the mesh, binary: float coordinates, a double distance property and colours;"),
             std::string::npos)
       << result.out;
   EXPECT_NE(result.out.find(".ascii.ply (the same as text, the coordinates as doubles too)"), std::string::npos)
@@ -684,6 +684,86 @@ TEST_F(Cli, PlyOutputIsBinaryWithTheAsciiPlysValues) {
   EXPECT_EQ(read_file(path("D.PLY")).find("format binary_little_endian 1.0"), 4u);
 }
 
+// A legacy binary VTK file as .vtk writes it: text lines, each block of big-endian numbers followed by a newline.
+struct LegacyVtk {
+  std::vector<std::string> lines;  // the text lines, in order
+  std::vector<double> points;      // x, y, z per vertex
+  std::vector<std::int32_t> polygons;
+  std::vector<double> distances;
+  std::vector<std::int32_t> labels;
+};
+
+LegacyVtk read_legacy_vtk(const std::string& bytes, std::size_t vertex_count, std::size_t face_count, bool labels) {
+  LegacyVtk vtk;
+  std::size_t at = 0;
+  const auto line = [&] {
+    const std::size_t end = bytes.find('\n', at);
+    vtk.lines.push_back(bytes.substr(at, end - at));
+    at = end == std::string::npos ? bytes.size() : end + 1;
+  };
+  const auto big_endian = [&](std::size_t size) {
+    std::uint64_t bits = 0;
+    for (std::size_t byte = 0; byte < size && at < bytes.size(); ++byte) bits = bits << 8 | std::uint8_t(bytes[at++]);
+    return bits;
+  };
+  const auto doubles = [&](std::vector<double>& values, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) values.push_back(std::bit_cast<double>(big_endian(8)));
+    EXPECT_EQ(bytes[at++], '\n') << "a newline after the binary block";
+  };
+  const auto ints = [&](std::vector<std::int32_t>& values, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i)
+      values.push_back(std::bit_cast<std::int32_t>(static_cast<std::uint32_t>(big_endian(4))));
+    EXPECT_EQ(bytes[at++], '\n') << "a newline after the binary block";
+  };
+  for (int i = 0; i < 5; ++i) line();
+  doubles(vtk.points, 3 * vertex_count);
+  line();
+  ints(vtk.polygons, 4 * face_count);
+  for (int i = 0; i < 3; ++i) line();
+  doubles(vtk.distances, vertex_count);
+  if (labels) {
+    for (int i = 0; i < 2; ++i) line();
+    ints(vtk.labels, vertex_count);
+  }
+  EXPECT_EQ(at, bytes.size()) << "bytes after the last block";
+  return vtk;
+}
+
+// .vtk: the mesh with the distance as point data, which VTK-based tools read (their PLY reader keeps only
+// colours): the positions and distances exactly, bit for bit the .npy's, inf included; labels as ints.
+TEST_F(Cli, VtkOutputCarriesTheMeshAndTheDistancesExactly) {
+  write_file(path("two.obj"),
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0.1\nf 1 2 3\nf 2 4 3\nf 5 6 7\n");
+  ASSERT_EQ(run("distance " + arg("two.obj") + " --source 0 --out " + arg("d.npy")).exit_code, 0);
+  ASSERT_EQ(run("distance " + arg("two.obj") + " --source 0 --labels --out " + arg("d.vtk")).exit_code, 0);
+  const std::vector<double> distances = parse_npy(path("d.npy"));
+  ASSERT_EQ(distances.size(), 7u);
+  EXPECT_TRUE(std::isinf(distances[6]));
+  const LegacyVtk vtk = read_legacy_vtk(read_file(path("d.vtk")), 7, 3, true);
+  const std::vector<std::string> expected_lines = {"# vtk DataFile Version 3.0",
+                                                   "written by exactgeo",
+                                                   "BINARY",
+                                                   "DATASET POLYDATA",
+                                                   "POINTS 7 double",
+                                                   "POLYGONS 3 12",
+                                                   "POINT_DATA 7",
+                                                   "SCALARS distance double 1",
+                                                   "LOOKUP_TABLE default",
+                                                   "SCALARS nearest_source int 1",
+                                                   "LOOKUP_TABLE default"};
+  EXPECT_EQ(vtk.lines, expected_lines);
+  EXPECT_EQ(vtk.points, (std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 0, 0, 6, 0, 0, 5, 1, 0.1}));
+  EXPECT_EQ(vtk.polygons, (std::vector<std::int32_t>{3, 0, 1, 2, 3, 1, 3, 2, 3, 4, 5, 6}));
+  expect_bitwise_equal(vtk.distances, distances);
+  EXPECT_EQ(vtk.labels, (std::vector<std::int32_t>{0, 0, 0, 0, -1, -1, -1}));
+  // Without labels the distance is the only point data.
+  ASSERT_EQ(run("distance @torus:24:10 --source 3 --out " + arg("t.vtk")).exit_code, 0);
+  ASSERT_EQ(run("distance @torus:24:10 --source 3 --out " + arg("t.npy")).exit_code, 0);
+  const LegacyVtk torus = read_legacy_vtk(read_file(path("t.vtk")), 240, 480, false);
+  expect_bitwise_equal(torus.distances, parse_npy(path("t.npy")));
+  EXPECT_EQ(torus.lines.back(), "LOOKUP_TABLE default");
+}
+
 TEST_F(Cli, PathOnAFlatGridIsTheDiagonal) {
   for (const char* name : {"p.csv", "p.obj", "p.json"})
     ASSERT_EQ(run("path @grid:4:4 --source 0 --target 24 --out " + arg(name)).exit_code, 0) << name;
@@ -922,6 +1002,141 @@ TEST_F(Cli, MatrixReadsTheSamplesThatSampleWrites) {
   EXPECT_EQ(read_file(path("from-csv.npy")), read_file(path("from-txt.npy")));
   write_file(path("bad.csv"), "sample,vertex,radius\n0,0,inf\n1,x,2\n");
   expect_error(run("matrix @icosphere:2 --sources " + arg("bad.csv") + " --out " + arg("m.npy")), 2, "line 3: 'x'");
+}
+
+// A .npy file of `values` stored as `descr` ("<i2", ">u8", "|u1", ...), laid out as numpy.save lays it: the
+// preamble, the header padded to 64 bytes, then each value's low bytes in the descr's byte order.
+std::string npy_file(const std::string& descr, const std::vector<std::int64_t>& values, std::string shape = "") {
+  if (shape.empty()) shape = "(" + std::to_string(values.size()) + ",)";
+  std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }";
+  header.append((64 - (10 + header.size() + 1) % 64) % 64, ' ');
+  header += '\n';
+  std::string bytes =
+      std::string("\x93NUMPY\x01\x00", 8) + char(header.size() & 0xff) + char(header.size() >> 8) + header;
+  const bool big_endian = descr[0] == '>';
+  const std::size_t size = std::stoul(descr.substr(2));
+  for (const std::int64_t value : values)
+    for (std::size_t k = 0; k < size; ++k)
+      bytes += char(static_cast<std::uint64_t>(value) >> (8 * (big_endian ? size - 1 - k : k)));
+  return bytes;
+}
+
+// Whether a message holds only printable ASCII and newlines: nothing of a binary file reaches the terminal.
+bool printable(const std::string& message) {
+  return std::all_of(message.begin(), message.end(), [](char c) { return c == '\n' || (c >= 0x20 && c < 0x7f); });
+}
+
+// matrix --sources and --targets and distance --targets read .npy arrays of every integer dtype, in either
+// byte order, as the text list of the same indices.
+TEST_F(Cli, ListFilesAreNpyArraysOfAnyIntegerDtype) {
+  const std::vector<std::int64_t> sources = {0, 17, 100, 5};
+  const std::vector<std::int64_t> targets = {33, 2, 17};
+  ASSERT_EQ(run("matrix @torus:24:10 --sources 0 17 100 5 --targets 33,2,17 --out " + arg("text.npy")).exit_code, 0);
+  ASSERT_EQ(run("distance @torus:24:10 --source 3 --targets 33,2,17 --target-out " + arg("text.csv")).exit_code, 0);
+  for (const char* type : {"i1", "i2", "i4", "i8", "u1", "u2", "u4", "u8"})
+    for (const char order : {'<', '>'}) {
+      const std::string descr = (type[1] == '1' ? '|' : order) + std::string(type);
+      write_file(path("s.npy"), npy_file(descr, sources));
+      write_file(path("t.npy"), npy_file(descr, targets));
+      RunResult result = run("matrix @torus:24:10 --sources " + arg("s.npy") + " --targets " + arg("t.npy") +
+                             " --quiet --out " + arg("m.npy"));
+      ASSERT_EQ(result.exit_code, 0) << descr << ": " << result.err;
+      EXPECT_EQ(read_file(path("m.npy")), read_file(path("text.npy"))) << descr;
+      result = run("distance @torus:24:10 --source 3 --targets " + arg("t.npy") + " --target-out " + arg("t.csv"));
+      ASSERT_EQ(result.exit_code, 0) << descr << ": " << result.err;
+      EXPECT_EQ(read_file(path("t.csv")), read_file(path("text.csv"))) << descr;
+    }
+  // Version 2.0 files (a 4-byte header length), as numpy.save writes for huge headers.
+  std::string version2 = npy_file("<i4", sources);
+  version2 = std::string("\x93NUMPY\x02\x00", 8) + version2.substr(8, 2) + std::string(2, '\0') + version2.substr(10);
+  write_file(path("v2.npy"), version2);
+  ASSERT_EQ(run("matrix @torus:24:10 --sources " + arg("v2.npy") + " --targets 33 2 17 --quiet --out " + arg("m.npy"))
+                .exit_code,
+            0);
+  EXPECT_EQ(read_file(path("m.npy")), read_file(path("text.npy")));
+}
+
+// What sample writes, matrix reads: its .npy, and its output on stdin through a pipe (CSV) or a redirect.
+// distance --targets reads stdin too.
+TEST_F(Cli, SamplesReachMatrixAsNpyAndThroughStandardInput) {
+  ASSERT_EQ(run("sample @icosphere:2 -k 6 --out " + arg("s.npy")).exit_code, 0);
+  ASSERT_EQ(run("sample @icosphere:2 -k 6 --out " + arg("s.txt")).exit_code, 0);
+  ASSERT_EQ(run("matrix @icosphere:2 --sources " + arg("s.txt") + " --quiet --out " + arg("expected.npy")).exit_code,
+            0);
+  RunResult result = run("matrix @icosphere:2 --sources " + arg("s.npy") + " --quiet --out " + arg("m.npy"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(read_file(path("m.npy")), read_file(path("expected.npy")));
+  for (const char* name : {"s.npy", "s.txt"}) {
+    result = run("matrix @icosphere:2 --sources - --quiet --out " + arg("m.npy") + " < " + arg(name));
+    ASSERT_EQ(result.exit_code, 0) << name << ": " << result.err;
+    EXPECT_EQ(read_file(path("m.npy")), read_file(path("expected.npy"))) << name;
+  }
+  const std::string pipeline = "cd '" + path("").string() + "' && '" EXACTGEO_CLI_PATH
+                               "' sample @icosphere:2 -k 6 --out - --quiet | '" EXACTGEO_CLI_PATH
+                               "' matrix @icosphere:2 --sources - --quiet --out piped.npy 2>err";
+  ASSERT_EQ(std::system(pipeline.c_str()), 0) << read_file(path("err"));
+  EXPECT_EQ(read_file(path("piped.npy")), read_file(path("expected.npy")));
+  // distance --targets takes sample's CSV too, piped in.
+  ASSERT_EQ(run("distance @icosphere:2 --source 0 --targets " + arg("s.txt") + " --target-out " + arg("s.csv")).exit_code,
+            0);
+  const std::string sampled_targets = "cd '" + path("").string() + "' && '" EXACTGEO_CLI_PATH
+                                      "' sample @icosphere:2 -k 6 --out - --quiet | '" EXACTGEO_CLI_PATH
+                                      "' distance @icosphere:2 --source 0 --targets - --target-out piped.csv 2>err";
+  ASSERT_EQ(std::system(sampled_targets.c_str()), 0) << read_file(path("err"));
+  EXPECT_EQ(read_file(path("piped.csv")), read_file(path("s.csv")));
+  write_file(path("targets.txt"), "5\n9;3:0.2,0.3,0.5\n");
+  const std::string targets_to_csv = "distance @icosphere:2 --source 0 --targets " + arg("targets.txt");
+  ASSERT_EQ(run(targets_to_csv + " --target-out " + arg("t.csv")).exit_code, 0);
+  result = run("distance @icosphere:2 --source 0 --targets - --target-out - < " + arg("targets.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, read_file(path("t.csv")));
+}
+
+// Lists that cannot be read are named, with the element at fault, and nothing of a binary file is printed.
+TEST_F(Cli, BadListFilesAreNamedWithTheElementAndNoBinary) {
+  const auto expect_list_error = [&](const std::string& file, const std::string& bytes, const std::string& expected) {
+    write_file(path(file), bytes);
+    for (const std::string command : {"matrix @icosphere:2 --sources " + arg(file) + " --out " + arg("m.npy"),
+                                      "matrix @icosphere:2 --sources - --out " + arg("m.npy") + " < " + arg(file)}) {
+      const RunResult result = run(command);
+      expect_error(result, 2, expected);
+      EXPECT_TRUE(printable(result.err)) << result.err;
+      EXPECT_FALSE(fs::exists(path("m.npy")));
+    }
+    const RunResult result = run("distance @icosphere:2 --source 0 --targets " + arg(file));
+    expect_error(result, 2, expected);
+    EXPECT_NE(result.err.find(file), std::string::npos) << result.err;
+  };
+  expect_list_error("float.npy", npy_file("<f8", {0, 0x3ff0000000000000}),
+                    "holds float64 values; indices must be integers");
+  expect_list_error("bool.npy", npy_file("|b1", {1, 0}), "holds bool values");
+  expect_list_error("two.npy", npy_file("<i4", {1, 2, 3, 4}, "(2, 2)"),
+                    "array of shape (2, 2); indices must be a 1-D array");
+  expect_list_error("negative.npy", npy_file("|i1", {3, -1}), "element [1] is -1, not an index");
+  expect_list_error("negative64.npy", npy_file(">i8", {3, 4, -5}), "element [2] is -5, not an index");
+  expect_list_error("huge.npy", npy_file("<u8", {std::int64_t{1} << 40}), "element [0] is 1099511627776, not an index");
+  expect_list_error("beyond.npy", npy_file("<u2", {1, 2, 500}),
+                    "element [2]: vertex 500 is out of range (mesh has 162 vertices)");
+  const std::string three = npy_file("<i8", {1, 2, 3});
+  expect_list_error("short.npy", three.substr(0, three.size() - 4),
+                    "the header says 3 values of 8 bytes, but 20 bytes");
+  expect_list_error("empty.npy", npy_file("<i8", {}), "no ");
+  expect_list_error("records.npy", npy_file("<i8", {1}).replace(10, 17, "{'descr': [('a', '<i8')], "), "records");
+  std::string garbage;
+  for (int byte = 0; byte < 256; ++byte) garbage += char(byte);
+  expect_list_error("garbage.bin", garbage, "binary data, not a list");
+  expect_list_error("text.txt", "0 1 \xff\xfe\x9b", "'\\xFF\\xFE\\x9B'");
+  // A text file named .npy is taken for a damaged .npy, not for a list.
+  write_file(path("named.npy"), "0 1 2\n");
+  expect_error(run("matrix @icosphere:2 --sources " + arg("named.npy") + " --out " + arg("m.npy")), 2,
+               "not a .npy file");
+  expect_error(run("matrix @icosphere:2 --sources missing.npy --out " + arg("m.npy")), 2,
+               "cannot read 'missing.npy': no such file");
+  // Standard input feeds one list.
+  expect_error(run("matrix @icosphere:2 --sources - --targets - --out " + arg("m.npy") + " < /dev/null"), 1,
+               "standard input (-) can feed one list");
+  expect_error(run("matrix @icosphere:2 --sources - --out " + arg("m.npy") + " < /dev/null"), 2,
+               "(standard input): no vertex given");
 }
 
 // --source, --source-point, --targets and matrix's --sources and --targets take several values, or repeat;

@@ -16,7 +16,7 @@ from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResul
 from ._isolines import isolines
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
-from ._pictures import plot, save_ply
+from ._pictures import plot, save_ply, save_vtk
 from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
 from ._surface_point import SurfacePoint, SurfacePoints, edge_point, point_position, vertex_point
 
@@ -45,6 +45,7 @@ __all__ = [
     "plot",
     "point_position",
     "save_ply",
+    "save_vtk",
     "subdivide_midpoint",
     "vertex_point",
 ]

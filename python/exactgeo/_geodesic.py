@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-import warnings
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, Callable, Literal, TypedDict, overload
 
@@ -14,6 +13,7 @@ from . import _core, _inputs
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
 from ._surface_point import SurfacePoint, SurfacePoints, Sites, source_sites, target_points
+from ._warnings import warn
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
@@ -67,7 +67,23 @@ def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _
     return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **checked)
 
 
-@dataclasses.dataclass(frozen=True)
+def _number(value: float) -> str:
+    """A length or distance as a repr shows it: six significant digits, inf as inf."""
+    return f"{value:.6g}"
+
+
+def _point(point: np.ndarray) -> str:
+    return "(" + ", ".join(_number(c) for c in point) + ")"
+
+
+def _largest_finite(values: np.ndarray) -> str:
+    finite = values[np.isfinite(values)]
+    return _number(float(finite.max())) if finite.size else "none"
+
+
+# The results' reprs give counts, lengths and ends, never the arrays: a result printed in a notebook or a log
+# stays one line whatever the mesh's size.
+@dataclasses.dataclass(frozen=True, repr=False)
 class GeodesicResult:
     """What a run computed (C++: exactgeo::GeodesicResult)."""
 
@@ -77,8 +93,15 @@ class GeodesicResult:
     target_nearest_source: np.ndarray  # (targets,) int64
     stats: _core.GeodesicStats  # the engine's counters and its time, as attributes; .to_dict() for a dict
 
+    def __repr__(self) -> str:
+        unreachable = int(np.count_nonzero(np.isinf(self.distances)))
+        return (
+            f"exactgeo.GeodesicResult(vertices={len(self.distances)}, largest_distance="
+            f"{_largest_finite(self.distances)}, inf={unreachable}, targets={len(self.target_distances)})"
+        )
 
-@dataclasses.dataclass(frozen=True)
+
+@dataclasses.dataclass(frozen=True, repr=False)
 class GeodesicPath:
     """A shortest path from the nearest source to a point, straight inside each face (C++: exactgeo::GeodesicPath).
 
@@ -94,6 +117,14 @@ class GeodesicPath:
     face: np.ndarray  # (k,) int64: the input face of "face" points, -1 for the others
     length: float
     source: int  # index into the sources
+
+    def __repr__(self) -> str:
+        if len(self.points) == 0:
+            return "exactgeo.GeodesicPath(points=0, length=inf, source=-1)"
+        return (
+            f"exactgeo.GeodesicPath(points={len(self.points)}, length={_number(self.length)}, source={self.source}, "
+            f"start={_point(self.points[0])}, end={_point(self.points[-1])})"
+        )
 
     @classmethod
     def _of(cls, arrays: tuple) -> GeodesicPath:
@@ -196,11 +227,10 @@ def _warn_if_seams_cut_the_surface(mesh: Mesh, distances: np.ndarray) -> None:
         return
     unreachable = int(np.count_nonzero(np.isinf(distances))) - report.unreferenced_vertices
     if unreachable > 0:
-        warnings.warn(
+        warn(
             f"{unreachable} of {mesh.vertex_count} vertices are unreachable, and {report.duplicate_positions} "
             "vertices repeat another's position (seams, as mesh libraries split meshes): "
-            "exactgeo.Mesh(..., weld_duplicate_positions=True) joins them",
-            stacklevel=3,
+            "exactgeo.Mesh(..., weld_duplicate_positions=True) joins them"
         )
 
 

@@ -32,6 +32,17 @@ def real_array(values: object, what: str, columns: int) -> np.ndarray:
     return np.ascontiguousarray(array, dtype=np.float64)
 
 
+def positions_array(values: object, what: str = "vertices") -> np.ndarray:
+    """(n, 3) float64 coordinates, as real_array makes them; planar (n, 2) ones get z = 0, as libigl and meshio
+    take them."""
+    array = np.asarray(values)
+    if array.ndim == 2 and array.shape[1] == 2:
+        array = np.column_stack([array, np.zeros(len(array), dtype=array.dtype)])
+    elif array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f"{what} must have shape (n, 3), or (n, 2) for z = 0, not {array.shape}")
+    return real_array(array, what, columns=3)
+
+
 def index_array(
     values: object, what: str, columns: int | None, element: Callable[[tuple], str], out_of_range: str
 ) -> np.ndarray:

@@ -11,7 +11,8 @@ from . import _core, _inputs
 from ._geodesic import AlgorithmOptions, TargetsBeyond, exact_targets, geodesic_options
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
-from ._surface_point import VertexIndices
+from ._surface_point import VertexIndices, holds_points
+from ._warnings import warn
 
 if TYPE_CHECKING:
     from scipy.sparse import csr_array
@@ -55,7 +56,8 @@ def distance_matrix(
 ) -> np.ndarray | csr_array:
     """Distances from each source vertex (rows) to every input vertex (columns), or to `targets`.
 
-    Row i is `sources[i]`, in the order given. With `targets` (vertex indices), column j is `targets[j]`: a
+    Row i is `sources[i]`, in the order given: vertex indices only (TypeError for surface points, whose rows
+    exactgeo.distance gives one at a time). With `targets` (vertex indices), column j is `targets[j]`: a
     (sources, targets) block holding exactly those columns of the full matrix, and each run stops as soon
     as the targets are final, so nearby targets cost a fraction of a full row. The caller has the row and
     column vertices already (the command line's .npz stores them as `sources` and `targets`).
@@ -96,6 +98,17 @@ def distance_matrix(
 
 def _rows_and_columns(mesh: Mesh, sources: VertexIndices, targets: VertexIndices | None) -> tuple:
     """The source vertices, the target vertices (empty without targets) and whether targets were given."""
+    # The library's matrices run from vertices only; for points, say which call takes them.
+    if holds_points(sources):
+        raise TypeError(
+            "distance_matrix takes source vertex indices, not surface points: for a point source, one row is "
+            "exactgeo.distance(mesh, point) (a GeodesicSolver reused across the points keeps its buffers)"
+        )
+    if targets is not None and holds_points(targets):
+        raise TypeError(
+            "distance_matrix takes target vertex indices, not surface points: "
+            "exactgeo.distance(mesh, source, targets=points) gives one row's distances to points"
+        )
     vertices = _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
     columns = (
         np.empty(0, dtype=np.uint32)
@@ -130,7 +143,7 @@ def fill_distance_matrix(out: np.ndarray, mesh: Mesh, sources: VertexIndices, *,
     _fill(out, mesh, vertices, columns, has_targets, geodesic_options(None, {}), _workers(threads), None)
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, repr=False)
 class Sampling:
     """Result of farthest_point_sampling (C++: exactgeo::Sampling)."""
 
@@ -138,6 +151,11 @@ class Sampling:
     radii: np.ndarray  # (k,) float64: each sample's distance to the samples before it (inf for the first)
     distances: np.ndarray  # (vertex_count,) float64: to the nearest sample, inf where unreachable
     nearest_sample: np.ndarray  # (vertex_count,) int64: index into samples, -1 where unreachable
+
+    def __repr__(self) -> str:
+        # One line whatever the mesh's size, as the other results' reprs.
+        last_radius = f", last_radius={self.radii[-1]:.6g}" if len(self.radii) else ""
+        return f"exactgeo.Sampling(samples={len(self.samples)}, vertices={len(self.distances)}{last_radius})"
 
 
 def farthest_point_sampling(
@@ -153,16 +171,32 @@ def farthest_point_sampling(
     samples so far (ties to the lowest index).
 
     `first` is one vertex or several, taken as the first samples in their order (each one's radius its
-    distance to those before). Stops early once every vertex reachable from them is a sample; vertices on
-    other pieces of the mesh are never sampled. Each run after the first stops at the current largest
-    distance, so later samples cost less. `progress`: True for a tqdm bar, or a function called with
-    (samples taken, count). Ctrl-C stops the work within milliseconds.
+    distance to those before). Each run after the first stops at the current largest distance, so later
+    samples cost less. `progress`: True for a tqdm bar, or a function called with (samples taken, count).
+    Ctrl-C stops the work within milliseconds.
+
+    Samples are distinct vertices (but for repeated `first` ones): a `count` above the vertex count (and above
+    len(first)) raises ValueError before any work. Sampling stops early once every vertex within reach (of
+    `first`'s piece of the mesh, and within `max_distance`) is a sample; the result then has fewer samples
+    than `count`, and a UserWarning says how many, pointing at the caller's line.
     """
     mesh = checked_mesh(mesh)
     taken = _inputs.count(count, "count", maximum=2**64 - 1)
     start = _inputs.vertex_array(first, mesh.vertex_count, "first", lambda i: "source vertex")
+    if taken > max(mesh.vertex_count, len(start)):
+        raise ValueError(
+            f"count {taken} exceeds the mesh's {mesh.vertex_count} vertices: farthest-point samples are "
+            "distinct vertices"
+        )
     config = geodesic_options(max_distance, options)
     arrays = run_with_progress(
         progress, "samples", taken, lambda r: _core.farthest_point_sampling(mesh._core, taken, start, config, r)
     )
-    return Sampling(*arrays)
+    sampling = Sampling(*arrays)
+    if len(sampling.samples) < taken:
+        within = "" if max_distance is None else f" within max_distance={max_distance}"
+        warn(
+            f"farthest_point_sampling took {len(sampling.samples)} of the {taken} samples asked for: every vertex "
+            f"reachable from `first`{within} is a sample"
+        )
+    return sampling

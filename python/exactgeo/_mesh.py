@@ -18,8 +18,9 @@ from ._progress import Progress, run_with_progress
 class Mesh:
     """A triangle mesh ready for geodesic queries (C++: exactgeo::Mesh).
 
-    `vertices` is (n, 3) coordinates and `faces` is (m, 3) zero-based vertex indices, of any real and any
-    integer dtype respectively (float indices must be whole numbers), C or Fortran order, or nested lists.
+    `vertices` is (n, 3) coordinates, or (n, 2) for a flat mesh at z = 0, and `faces` is (m, 3) zero-based
+    vertex indices, of any real and any integer dtype respectively (float indices must be whole numbers), C or
+    Fortran order, or nested lists.
     Polygons ((m, k) arrays, or lists of index lists of any lengths) are fan-triangulated as Mesh.load does;
     face indices (in reports, SurfacePoints, paths) then count the triangles.
     Real-world meshes are accepted as they are: vertices used by no face (distance inf), faces repeating a
@@ -49,7 +50,7 @@ class Mesh:
         threads: int = 0,
         progress: Progress = None,
     ) -> None:
-        positions = _inputs.real_array(vertices, "vertices", columns=3)
+        positions = _inputs.positions_array(vertices)
         triangles = _inputs.triangles_array(faces, len(positions))
         weld = _inputs.flag(weld_duplicate_positions, "weld_duplicate_positions")
         count = _inputs.count(threads, "threads")

@@ -68,9 +68,9 @@ def from_open3d(obj: Any) -> tuple[Any, Any]:
 
 def from_meshio(obj: Any) -> tuple[np.ndarray, np.ndarray]:
     """The points and every triangle, quad and polygon cell block, fanned block by block; other blocks (lines,
-    vertices, volume and higher-order cells) are left out. 2-D points get z = 0."""
+    vertices, volume and higher-order cells) are left out. 2-D points get z = 0 in exactgeo.Mesh."""
     _require(obj, ("points", "cells"), "a meshio.Mesh (with .points and .cells)")
-    points = _three_columns(np.asarray(obj.points))
+    points = np.asarray(obj.points)
     blocks = [(block.type, block.data) for block in obj.cells]
     triangles = []
     for number, (kind, data) in enumerate(blocks):
@@ -105,7 +105,7 @@ def from_pyvista(obj: Any) -> tuple[np.ndarray, Any]:
             "the pyvista mesh has no polygons (triangle strips are left out: mesh.triangulate() turns them "
             "into triangles)"
         )
-    return _three_columns(np.asarray(obj.points)), unpack_vtk_faces(packed)
+    return np.asarray(obj.points), unpack_vtk_faces(packed)
 
 
 def unpack_vtk_faces(packed: np.ndarray) -> np.ndarray | list[np.ndarray]:
@@ -126,12 +126,6 @@ def unpack_vtk_faces(packed: np.ndarray) -> np.ndarray | list[np.ndarray]:
         faces.append(packed[start + 1 : end])
         start = end
     return faces
-
-
-def _three_columns(points: np.ndarray) -> np.ndarray:
-    if points.ndim == 2 and points.shape[1] == 2:
-        return np.column_stack([points, np.zeros(len(points), dtype=points.dtype)])
-    return points
 
 
 def vertices_and_faces(obj: Any) -> tuple[Any, Any]:

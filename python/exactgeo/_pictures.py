@@ -1,5 +1,6 @@
 """Pictures of a per-vertex field without plotting code: a coloured binary PLY for any mesh viewer
-(save_ply), and a shaded matplotlib figure with a colour bar, isolines and a path (plot)."""
+(save_ply), the values themselves for VTK-based tools (save_vtk), and a shaded matplotlib figure with a
+colour bar, isolines and a path (plot)."""
 
 from __future__ import annotations
 
@@ -114,6 +115,41 @@ def save_ply(
         file.write(face.tobytes())
 
 
+def save_vtk(
+    path: str | os.PathLike[str], mesh: Mesh, values: Any, value_name: str = "distance"
+) -> None:
+    """Writes `mesh` as a legacy VTK file (binary), with `values` (one per vertex) as point data named
+    `value_name`, for ParaView, VisIt, pyvista and meshio: VTK's PLY reader keeps only a PLY's colours, not a
+    value property, so save_ply's values never reach those tools.
+
+    The layout, the command line's `distance --out d.vtk` byte for byte: "# vtk DataFile Version 3.0",
+    "written by exactgeo", BINARY, DATASET POLYDATA; POINTS n double (the mesh's vertices exactly); POLYGONS m
+    4m (3 and the corners of each triangle, int32); POINT_DATA n with SCALARS `value_name` double 1 and
+    LOOKUP_TABLE default (the values exactly, inf and NaN included). Numbers are big-endian, as the format
+    has them; a newline follows each block of them. Raises ValueError if `values` does not have one number per
+    vertex, naming both lengths.
+    """
+    surface = checked_mesh(mesh)
+    field = _per_vertex(values, surface)
+    if not value_name.isidentifier():
+        raise ValueError(f"value_name must be a plain name for a VTK array, not {value_name!r}")
+    polygons = np.empty((surface.face_count, 4), dtype=">i4")
+    polygons[:, 0] = 3
+    polygons[:, 1:] = surface.faces
+    blocks = [
+        "# vtk DataFile Version 3.0\nwritten by exactgeo\nBINARY\nDATASET POLYDATA\n"
+        f"POINTS {surface.vertex_count} double\n".encode("ascii"),
+        surface.vertices.astype(">f8").tobytes(),
+        f"\nPOLYGONS {surface.face_count} {4 * surface.face_count}\n".encode("ascii"),
+        polygons.tobytes(),
+        f"\nPOINT_DATA {surface.vertex_count}\nSCALARS {value_name} double 1\nLOOKUP_TABLE default\n".encode("ascii"),
+        field.astype(">f8").tobytes(),
+        b"\n",
+    ]
+    with open(path, "wb") as file:
+        file.writelines(blocks)
+
+
 def plot(
     mesh: Mesh,
     values: Any,
@@ -195,7 +231,8 @@ def plot(
     edge_colours = item_colours.copy()
 
     figure = Figure(figsize=figsize, dpi=dpi)
-    axes = figure.add_subplot(projection="3d")
+    # Orthographic, as the shading above assumes: one viewing direction for every face.
+    axes = figure.add_subplot(projection="3d", proj_type="ortho")
     collection = Poly3DCollection(items, facecolors=item_colours, edgecolors=edge_colours, linewidths=0.7)
     axes.add_collection3d(collection)
     # Equal scales on the three axes, the box fitted to the mesh (at least 1/50 of its size in each).
@@ -205,19 +242,47 @@ def plot(
     axes.set_xlim(middle[0] - size[0] / 2, middle[0] + size[0] / 2)
     axes.set_ylim(middle[1] - size[1] / 2, middle[1] + size[1] / 2)
     axes.set_zlim(middle[2] - size[2] / 2, middle[2] + size[2] / 2)
-    try:
-        axes.set_box_aspect(tuple(size), zoom=1.3)
-    except TypeError:  # matplotlib before 3.6
-        axes.set_box_aspect(tuple(size))
     axes.view_init(elev=view[0], azim=view[1])
     axes.set_axis_off()
     mappable = ScalarMappable(norm=Normalize(low, high), cmap=_mpl_cmap(cmap))
     figure.colorbar(mappable, ax=axes, shrink=0.7, pad=0.02)
+    axes.set_box_aspect(tuple(size), zoom=_zoom_to_fit(axes, positions, middle, size))
     if title:
         axes.set_title(title)
     if file is not None:
         figure.savefig(file, dpi=dpi, bbox_inches="tight")
     return figure
+
+
+# How much of the axes' area, across and up, the mesh's picture may fill at most.
+_FILL = 0.95
+
+
+def _zoom_to_fit(axes: Any, points: np.ndarray, middle: np.ndarray, size: np.ndarray) -> float:
+    """The zoom at which the projection of every point lies inside the axes, _FILL of the way to its edges.
+
+    matplotlib scales the 3-D box to a fixed diagonal whatever its shape, so one zoom for every mesh would
+    either crop an elongated mesh (a beetle, a bone) or leave a round one small. Under the orthographic
+    projection the picture scales linearly with the zoom about the projection of the box's middle: the
+    points projected once at zoom 1 give the zoom that fits.
+    """
+    from mpl_toolkits.mplot3d import proj3d
+
+    axes.set_box_aspect(tuple(size), zoom=1.0)
+    axes.apply_aspect()  # the square area the axes draw in, as at drawing time
+    projection = axes.get_proj()
+    x, y, _ = proj3d.proj_transform(*points.T, projection)
+    centre_x, centre_y, _ = proj3d.proj_transform(*middle, projection)
+    picture = axes.transData.transform(np.column_stack([x, y]))
+    centre = axes.transData.transform([[centre_x, centre_y]])[0]
+    area = axes.bbox
+    reach = max(
+        (picture[:, 0].max() - centre[0]) / (area.x1 - centre[0]),
+        (centre[0] - picture[:, 0].min()) / (centre[0] - area.x0),
+        (picture[:, 1].max() - centre[1]) / (area.y1 - centre[1]),
+        (centre[1] - picture[:, 1].min()) / (centre[1] - area.y0),
+    )
+    return _FILL / reach if reach > 0 else 1.0
 
 
 # Which input axes the plot's x, y and z show, for each axis that points up: cyclic, so nothing is mirrored.

@@ -32,6 +32,6 @@ def make_grid(nx: int, ny: int, width: float, height: float) -> tuple[np.ndarray
 
 def subdivide_midpoint(vertices: object, faces: object) -> tuple[np.ndarray, np.ndarray]:
     """1-to-4 midpoint subdivision: one new vertex per edge at its midpoint; the surface is unchanged and the
-    original vertices keep their indices."""
-    positions = _inputs.real_array(vertices, "vertices", columns=3)
+    original vertices keep their indices. (n, 2) vertices are taken at z = 0, as exactgeo.Mesh takes them."""
+    positions = _inputs.positions_array(vertices)
     return _core.subdivide_midpoint(positions, _inputs.triangles_array(faces, len(positions)))

@@ -97,7 +97,7 @@ def source_sites(sources: Any, mesh: Mesh) -> np.ndarray | SurfacePoints:
     Vertices and points do not mix: a vertex that the mesh split into several surface copies (non-manifold)
     is a source at every copy, a point only on its face.
     """
-    if not _holds_points(sources):
+    if not holds_points(sources):
         return _inputs.vertex_array(sources, mesh.vertex_count, "sources", lambda i: "source vertex")
     if isinstance(sources, Sequence) and not all(isinstance(s, SurfacePoint) for s in sources):
         raise ValueError(
@@ -109,7 +109,7 @@ def source_sites(sources: Any, mesh: Mesh) -> np.ndarray | SurfacePoints:
 
 def target_points(targets: Any, mesh: Mesh) -> SurfacePoints:
     """Targets are points: a vertex target is the point at the vertex (which is the vertex, all its copies)."""
-    if not _holds_points(targets):
+    if not holds_points(targets):
         vertices = _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
         return SurfacePoints(*_core.vertex_points(mesh._core, vertices, "target"))
     if isinstance(targets, Sequence):
@@ -117,7 +117,8 @@ def target_points(targets: Any, mesh: Mesh) -> SurfacePoints:
     return _as_surface_points(targets)
 
 
-def _holds_points(sites: Any) -> bool:
+def holds_points(sites: Any) -> bool:
+    """Whether `sites` are surface points (a SurfacePoint, SurfacePoints, or a sequence with a SurfacePoint)."""
     return isinstance(sites, (SurfacePoint, SurfacePoints)) or (
         isinstance(sites, Sequence) and any(isinstance(s, SurfacePoint) for s in sites)
     )

@@ -86,7 +86,7 @@ CTRL_C = textwrap.dedent(
             small = exactgeo.Mesh(*exactgeo.make_bumpy_torus(100, 60))  # 6,000 vertices, 5,000 rows: 240 MB
             exactgeo.distance_matrix(small, [0] * 5000, threads=2)  # a minute of work
         elif call == "sampling":
-            exactgeo.farthest_point_sampling(mesh, 100000)
+            exactgeo.farthest_point_sampling(mesh, mesh.vertex_count)
         elif call == "mesh":
             vertices, faces = mesh.vertices.copy(), mesh.faces.copy()
             while True:

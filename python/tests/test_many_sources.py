@@ -57,7 +57,7 @@ def test_bad_matrix_arguments(sheet):
     with pytest.raises(ValueError, match=r"source vertex 169 is out of range \(mesh has 169 vertices\)"):
         exactgeo.distance_matrix(sheet, [0, 169])
     with pytest.raises(ValueError, match="sources must be integer indices, not objects"):
-        exactgeo.distance_matrix(sheet, [exactgeo.SurfacePoint(0)])
+        exactgeo.distance_matrix(sheet, [object()])
     with pytest.raises(ValueError, match="max_distance must be a non-negative number"):
         exactgeo.distance_matrix(sheet, SOURCES, max_distance=-0.5)
 
@@ -78,14 +78,43 @@ def test_farthest_point_sampling(sheet):
         assert rows[:k].min(axis=0).max() == pytest.approx(sampling.radii[k], rel=1e-14)
 
 
-def test_sampling_stops_once_the_reachable_vertices_are_taken():
+def test_sampling_stops_once_the_reachable_vertices_are_taken_and_says_so():
     mesh = exactgeo.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]], [[0, 1, 2], [3, 4, 5]])
-    sampling = exactgeo.farthest_point_sampling(mesh, 6)
+    with pytest.warns(UserWarning, match=r"took 3 of the 6 samples asked for: every vertex reachable") as caught:
+        sampling = exactgeo.farthest_point_sampling(mesh, 6)
+    assert [w.filename for w in caught] == [__file__]  # the caller's line
     assert sorted(sampling.samples.tolist()) == [0, 1, 2]
     np.testing.assert_array_equal(sampling.nearest_sample[3:], -1)
+    with pytest.warns(UserWarning, match=r"took 1 of the 3 .* within max_distance=0.5"):
+        exactgeo.farthest_point_sampling(mesh, 3, max_distance=0.5)
     assert len(exactgeo.farthest_point_sampling(mesh, 0).samples) == 0
     with pytest.raises(ValueError, match="count must be at least 0, not -1"):
         exactgeo.farthest_point_sampling(mesh, -1)
+
+
+def test_sampling_more_vertices_than_the_mesh_has_is_refused(sheet):
+    with pytest.raises(ValueError, match=rf"count 1000000 exceeds the mesh's {sheet.vertex_count} vertices"):
+        exactgeo.farthest_point_sampling(sheet, 10**6)
+    assert len(exactgeo.farthest_point_sampling(sheet, sheet.vertex_count).samples) == sheet.vertex_count
+
+
+def test_surface_point_sources_say_which_call_takes_them(sheet):
+    points = [exactgeo.SurfacePoint(3, (0.2, 0.3, 0.5))]
+    for sources in (points, points[0], exactgeo.SurfacePoints.of(points)):
+        with pytest.raises(TypeError, match=r"takes source vertex indices, not surface points: .*exactgeo.distance"):
+            exactgeo.distance_matrix(sheet, sources)
+    with pytest.raises(TypeError, match=r"takes target vertex indices, not surface points: .*targets=points"):
+        exactgeo.distance_matrix(sheet, [0, 1], targets=points)
+    # What the message points to gives the row.
+    assert exactgeo.distance(sheet, points[0]).shape == (sheet.vertex_count,)
+
+
+def test_sampling_repr_is_one_short_line(sheet):
+    sampling = exactgeo.farthest_point_sampling(sheet, 10)
+    assert repr(sampling) == (
+        f"exactgeo.Sampling(samples=10, vertices={sheet.vertex_count}, last_radius={sampling.radii[-1]:.6g})"
+    )
+    assert repr(exactgeo.farthest_point_sampling(sheet, 0)) == "exactgeo.Sampling(samples=0, vertices=0)"
 
 
 def test_without_scipy_a_cut_off_matrix_says_what_to_install(sheet, monkeypatch):

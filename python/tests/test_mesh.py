@@ -170,7 +170,9 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
         (SQUARE, [["0", "1", "2"]], "faces must be integer indices, not dtype <U1"),
         (SQUARE, [[0, 1]], r"faces must have shape \(n, 3\), not \(1, 2\)"),
         (SQUARE, [0, 1, 2], r"faces must have shape \(n, 3\), not \(3,\)"),
-        ([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), not \(3, 2\)"),
+        ([[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3, 4\)"),
+        ([0, 0, 1], [[0, 1, 2]], r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3,\)"),
+        ([[0, 0], [1, 0], [0, 1j]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
         ([[0, 0, 1j], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
     ],
 )
@@ -253,12 +255,26 @@ def test_polygons_are_fan_triangulated_like_the_file_readers(tmp_path):
         exactgeo.Mesh(vertices, [[0, 1, 4, 5], [1, 2, 9]])
 
 
+def test_planar_vertices_are_taken_at_z_0():
+    planar = [[0, 0], [1, 0], [0, 1], [1, 1]]
+    faces = [[0, 1, 2], [1, 3, 2]]
+    mesh = exactgeo.Mesh(np.array(planar, dtype=np.int32), faces)
+    np.testing.assert_array_equal(mesh.vertices, [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    np.testing.assert_array_equal(exactgeo.distance(mesh, 0), exactgeo.distance(exactgeo.Mesh(mesh.vertices, faces), 0))
+    vertices, _ = exactgeo.subdivide_midpoint(planar, faces)
+    assert vertices.shape == (9, 3) and not vertices[:, 2].any()
+
+
 def test_seams_that_cut_the_surface_are_pointed_out_with_the_fix(tmp_path):
     # Two triangles sharing an edge by position only, as trimesh leaves a mesh split at a texture seam.
     vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
     faces = [[0, 1, 2], [3, 4, 5]]
-    with pytest.warns(UserWarning, match=r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True"):
-        exactgeo.distance(exactgeo.Mesh(vertices, faces), 0)
+    # Each way into the solver warns at this file's line, not at exactgeo's.
+    mesh = exactgeo.Mesh(vertices, faces)
+    for call in (lambda: exactgeo.distance(mesh, 0), lambda: exactgeo.GeodesicSolver(mesh).solve(0)):
+        with pytest.warns(UserWarning, match=r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True") as caught:
+            call()
+        assert [w.filename for w in caught] == [__file__]
     import warnings
 
     with warnings.catch_warnings():

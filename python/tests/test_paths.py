@@ -84,6 +84,22 @@ def test_an_unreachable_target_has_an_empty_path():
     assert path.length == np.inf and path.source == -1
 
 
+def test_reprs_of_paths_and_results_are_one_short_line():
+    # A path across a fine grid has many points: its repr gives their number, the length and the ends, not
+    # the arrays.
+    mesh = exactgeo.Mesh(*exactgeo.make_grid(40, 40, 1.0, 1.0))
+    path = exactgeo.path(mesh, 0, mesh.vertex_count - 21)  # the middle of the top edge
+    assert len(path.points) > 40
+    assert repr(path) == (
+        f"exactgeo.GeodesicPath(points={len(path.points)}, length={path.length:.6g}, source=0, start=(0, 0, 0), "
+        "end=(0.5, 1, 0))"
+    )
+    apart = exactgeo.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]], [[0, 1, 2], [3, 4, 5]])
+    assert repr(exactgeo.path(apart, 0, 4)) == "exactgeo.GeodesicPath(points=0, length=inf, source=-1)"
+    result = exactgeo.GeodesicSolver(apart).solve(0, targets=[1, 4])
+    assert repr(result) == "exactgeo.GeodesicResult(vertices=6, largest_distance=1, inf=3, targets=2)"
+
+
 def test_a_solver_answers_path_queries_about_its_last_run(sheet):
     solver = exactgeo.GeodesicSolver(sheet)
     with pytest.raises(ValueError, match="no run to trace a path in: solve first"):

@@ -1,5 +1,6 @@
 """exactgeo.save_ply (read back by its header and numpy, and by trimesh and meshio where installed),
-exactgeo.plot (headless), and the docs' pictures script."""
+exactgeo.save_vtk (by its layout, the command line's .vtk, and pyvista where installed), exactgeo.plot
+(headless, framing meshes of any shape), and the docs' pictures script."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import REPOSITORY
+from conftest import REPOSITORY, run_cli, write_obj
 
 import exactgeo
 from exactgeo import _pictures
@@ -141,6 +142,87 @@ def test_save_ply_reads_back_in_trimesh_and_meshio(tmp_path, grid_with_inf):
     np.testing.assert_array_equal(read.cells_dict["triangle"], mesh.faces)
 
 
+def read_vtk(path: Path) -> tuple[list[bytes], np.ndarray, np.ndarray, np.ndarray]:
+    """The text lines, the points, the polygons and the values of a legacy binary VTK file as save_vtk lays it
+    out, each block of big-endian numbers checked to be followed by a newline and nothing left over."""
+    data = path.read_bytes()
+    lines, at = [], 0
+
+    def line() -> bytes:
+        nonlocal at
+        end = data.index(b"\n", at)
+        lines.append(data[at:end])
+        at = end + 1
+        return lines[-1]
+
+    def block(dtype: str, count: int) -> np.ndarray:
+        nonlocal at
+        values = np.frombuffer(data, dtype, count, at)
+        at += values.nbytes
+        assert data[at : at + 1] == b"\n"
+        at += 1
+        return values
+
+    for _ in range(5):
+        line()
+    points = block(">f8", 3 * int(lines[4].split()[1])).reshape(-1, 3)
+    polygons = block(">i4", int(line().split()[2])).reshape(-1, 4)
+    for _ in range(3):
+        line()
+    values = block(">f8", int(lines[6].split()[1]))
+    assert at == len(data)
+    return lines, points, polygons, values
+
+
+def test_save_vtk_layout_holds_the_exact_values(tmp_path, grid_with_inf):
+    mesh, d = grid_with_inf
+    exactgeo.save_vtk(tmp_path / "d.vtk", mesh, d)
+    lines, points, polygons, values = read_vtk(tmp_path / "d.vtk")
+    assert lines == [
+        b"# vtk DataFile Version 3.0",
+        b"written by exactgeo",
+        b"BINARY",
+        b"DATASET POLYDATA",
+        f"POINTS {mesh.vertex_count} double".encode(),
+        f"POLYGONS {mesh.face_count} {4 * mesh.face_count}".encode(),
+        f"POINT_DATA {mesh.vertex_count}".encode(),
+        b"SCALARS distance double 1",
+        b"LOOKUP_TABLE default",
+    ]
+    np.testing.assert_array_equal(points, mesh.vertices)
+    np.testing.assert_array_equal(polygons[:, 0], 3)
+    np.testing.assert_array_equal(polygons[:, 1:], mesh.faces)
+    np.testing.assert_array_equal(values, d)  # inf and NaN as they are
+    exactgeo.save_vtk(tmp_path / "v.vtk", mesh, d, value_name="value")
+    assert read_vtk(tmp_path / "v.vtk")[0][7] == b"SCALARS value double 1"
+    with pytest.raises(ValueError, match="plain name"):
+        exactgeo.save_vtk(tmp_path / "x.vtk", mesh, d, value_name="geodesic distance")
+    with pytest.raises(ValueError, match="got 24 values, but the mesh has 25 vertices"):
+        exactgeo.save_vtk(tmp_path / "x.vtk", mesh, d[:-1])
+    assert not (tmp_path / "x.vtk").exists()
+
+
+def test_save_vtk_is_the_command_lines_vtk(cli, tmp_path):
+    vertices, faces = exactgeo.make_grid(5, 3, 2.0, 1.0)
+    vertices[:, 2] = np.sin(vertices[:, 0]) / 3  # coordinates that need all 17 digits
+    path = write_obj(tmp_path / "m.obj", vertices, faces)
+    run_cli("distance", path, "--source", "4", "--out", tmp_path / "cli.vtk")
+    mesh = exactgeo.Mesh(vertices, faces)
+    exactgeo.save_vtk(tmp_path / "python.vtk", mesh, exactgeo.distance(mesh, 4))
+    assert (tmp_path / "python.vtk").read_bytes() == (tmp_path / "cli.vtk").read_bytes()
+
+
+def test_vtk_tools_read_the_values_from_the_vtk_file(tmp_path, grid_with_inf):
+    pyvista = pytest.importorskip("pyvista")
+    mesh, d = grid_with_inf
+    exactgeo.save_vtk(tmp_path / "d.vtk", mesh, d)
+    read = pyvista.read(tmp_path / "d.vtk")
+    assert read.point_data["distance"].dtype == np.float64
+    np.testing.assert_array_equal(read.point_data["distance"], d)
+    np.testing.assert_array_equal(read.points, mesh.vertices)
+    np.testing.assert_array_equal(read.faces.reshape(-1, 4)[:, 1:], mesh.faces)
+
+
 def test_wrong_lengths_are_named(tmp_path, grid_with_inf):
     mesh, d = grid_with_inf
     with pytest.raises(ValueError, match="got 24 values, but the mesh has 25 vertices"):
@@ -184,6 +266,31 @@ def test_plot_isolines_path_and_options():
     assert items(exactgeo.plot(mesh, d, exactgeo.path(mesh, 0, 48), isolines=3, cmap="magma")) > mesh.face_count
     with pytest.raises(ValueError, match="up must be"):
         exactgeo.plot(mesh, d, up="w")
+
+
+@pytest.mark.parametrize("up", ["x", "y", "z"])
+def test_plot_frames_a_long_thin_mesh_whole_in_every_view(up):
+    pytest.importorskip("matplotlib")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from mpl_toolkits.mplot3d import proj3d
+
+    vertices, faces = exactgeo.make_grid(40, 2, 20.0, 1.0)  # 20 by 1
+    vertices[:, 2] = 0.2 * np.sin(vertices[:, 0])
+    mesh = exactgeo.Mesh(vertices, faces)
+    d = exactgeo.distance(mesh, 0)
+    for view in [(30, -60), (50, -70), (0, 0), (0, 90), (90, 0), (-20, 135)]:
+        figure = exactgeo.plot(mesh, d, view=view, up=up)
+        FigureCanvasAgg(figure).draw()  # the layout as drawn: the axes made square, the colour bar beside
+        axes = figure.axes[0]
+        x, y, _ = proj3d.proj_transform(*mesh.vertices[:, _pictures._UP[up]].T, axes.get_proj())
+        picture = axes.transData.transform(np.column_stack([x, y]))
+        area = axes.bbox
+        inside = (picture[:, 0] >= area.x0) & (picture[:, 0] <= area.x1)
+        inside &= (picture[:, 1] >= area.y0) & (picture[:, 1] <= area.y1)
+        assert inside.all(), f"view {view}: vertices {np.flatnonzero(~inside)[:5]} drawn outside the axes"
+        # Framed, not lost in the middle: the picture spans most of the axes across or up.
+        span = max(np.ptp(picture[:, 0]) / area.width, np.ptp(picture[:, 1]) / area.height)
+        assert span > 0.8, f"view {view}: the mesh spans {span:.2f} of the axes"
 
 
 def test_the_docs_pictures_script_runs(tmp_path):
