@@ -14,9 +14,10 @@
 #include "outputs.hpp"
 
 namespace exactgeo::cli {
-namespace {
 
 exactgeo::Error io_error(const std::string& message) { return exactgeo::Error(exactgeo::ErrorCode::io_error, message); }
+
+namespace {
 
 // Links followed at most, as Linux's path resolution allows (ELOOP beyond).
 constexpr int kMaxLinkHops = 40;

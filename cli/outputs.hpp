@@ -64,6 +64,9 @@ struct OutputTarget {
 };
 OutputTarget output_target(const std::string& path);
 
+// The error of a file that cannot be written or read, its message naming the file.
+exactgeo::Error io_error(const std::string& message);
+
 // An output file that appears only when complete: written to a temporary file beside its destination
 // (output_target) and renamed over it by commit(). A run that fails or is interrupted leaves an existing file
 // as it was, and never a truncated file that would load as a result. Every failure is an io_error naming the

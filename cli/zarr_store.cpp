@@ -33,7 +33,6 @@ constexpr int kZarrFormat = 3;
 exactgeo::Error invalid(const std::string& message) {
   return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, message);
 }
-exactgeo::Error io_error(const std::string& message) { return exactgeo::Error(exactgeo::ErrorCode::io_error, message); }
 
 std::string block_name(std::size_t block) {
   char name[32];
