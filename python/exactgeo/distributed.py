@@ -56,7 +56,7 @@ import numpy as np
 
 from . import _inputs
 from ._mesh import Mesh, checked_mesh
-from ._progress import Progress, Reporter
+from ._progress import Progress, Reporter, checked as checked_progress
 
 FORMAT = "exactgeo-distance-matrix/1"
 DTYPES = ("float32", "float64")
@@ -149,6 +149,7 @@ def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[st
 def mesh_hash(mesh: Mesh) -> str:
     """sha256 (hex) of the mesh's input: vertex and face counts, welding, vertices as float64 and faces as
     uint32, in C order. Equal meshes have equal hashes; stores record it."""
+    mesh = checked_mesh(mesh)
     digest = hashlib.sha256(b"exactgeo-mesh/1")
     vertices = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
     faces = np.ascontiguousarray(mesh.faces, dtype=np.uint32)
@@ -455,10 +456,25 @@ def _write_chunk(path: Path, block: int, chunk: np.ndarray) -> None:
 
 
 def _vertices(values: object, mesh: Mesh, what: str) -> np.ndarray:
-    array = _inputs.vertex_array(values, mesh.vertex_count, what, lambda i: "vertex").astype(np.int64)
+    array = _inputs.vertex_array(values, mesh.vertex_count, what, lambda i: f"{what}: vertex").astype(np.int64)
     if array.size and array.max() >= mesh.vertex_count:
         raise ValueError(f"{what}: vertex {int(array.max())} is out of range (mesh has {mesh.vertex_count} vertices)")
     return array
+
+
+def _dtype_name(dtype: object) -> str:
+    """"float32" or "float64", from their names or numpy's types; ValueError naming what was given otherwise."""
+    try:
+        name = str(np.dtype(dtype)) if dtype is not None else None
+    except TypeError:
+        name = None
+    if name not in DTYPES:
+        raise ValueError(f"dtype must be float32 or float64, not {dtype!r}")
+    return name
+
+
+def _store_path(store: object) -> Path:
+    return Path(os.fsdecode(_inputs.path(store, "store"))).absolute()
 
 
 def distance_matrix_to_zarr(
@@ -503,15 +519,18 @@ def distance_matrix_to_zarr(
     mesh = checked_mesh(mesh)
     source_array = _vertices(sources, mesh, "sources")
     target_array = None if targets is None else _vertices(targets, mesh, "targets")
-    if str(np.dtype(dtype)) not in DTYPES:
-        raise ValueError(f"dtype must be float32 or float64, not {dtype!r}")
+    dtype = _dtype_name(dtype)
     cutoff = None if max_distance is None else _inputs.cutoff(max_distance)
     if cutoff is not None and not (0 <= cutoff < math.inf):
         raise ValueError(f"max_distance must be a finite number of at least 0, not {max_distance!r}")
     threads = _inputs.count(threads, "threads")
     retries = _inputs.count(retries, "retries")
+    resume = _inputs.flag(resume, "resume")
+    verify = _inputs.flag(verify, "verify")
+    progress = checked_progress(progress)
+    _check_client(client)
     width = mesh.vertex_count if target_array is None else len(target_array)
-    path = Path(os.fspath(store)).absolute()
+    path = _store_path(store)
     stored = _stored_settings(path)
     if block_rows is None:
         rows_per_block = stored["block_rows"] if stored and resume else _default_block_rows(
@@ -530,7 +549,7 @@ def distance_matrix_to_zarr(
         "sources": source_array.tolist(),
         "targets": None if target_array is None else target_array.tolist(),
         "shape": [len(source_array), width],
-        "dtype": str(np.dtype(dtype)),
+        "dtype": dtype,
         "max_distance": cutoff,
         "layout": "dense" if cutoff is None else "sparse",
         "block_rows": rows_per_block,
@@ -637,6 +656,18 @@ def local_cluster(workers: Optional[int] = None) -> Any:
                             config=_UNHURRIED_HOUSEKEEPING)
 
 
+def _is_dask_client(client: Any) -> bool:
+    client_type = _dask_client_type()
+    return client_type is not None and isinstance(client, client_type)
+
+
+def _check_client(client: Any) -> None:
+    """Before the store is touched: a client that cannot run the blocks leaves it as it was."""
+    if client is not None and not _is_dask_client(client) and not isinstance(client, concurrent.futures.Executor):
+        raise TypeError(f"client must be None, a dask.distributed Client or a concurrent.futures.Executor, "
+                        f"not {type(client).__name__}")
+
+
 def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference, retries: int, finished) -> None:
     if client is None:
         try:
@@ -645,15 +676,10 @@ def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference
             raise ImportError(_MISSING_EXTRA) from None
         with local_cluster() as cluster, Client(cluster) as own:
             _run_dask(own, tasks, context, retries, finished)
-        return
-    client_type = _dask_client_type()
-    if client_type is not None and isinstance(client, client_type):
+    elif _is_dask_client(client):
         _run_dask(client, tasks, context, retries, finished)
-    elif isinstance(client, concurrent.futures.Executor):
-        _run_executor(client, tasks, reference, retries, finished)
     else:
-        raise TypeError(f"client must be None, a dask.distributed Client or a concurrent.futures.Executor, "
-                        f"not {type(client).__name__}")
+        _run_executor(client, tasks, reference, retries, finished)
 
 
 def _run_dask(client: Any, tasks: dict, context: _Context, retries: int, finished) -> None:
@@ -706,7 +732,8 @@ def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
     `verify=True` also reads each done block's data and checks it against the sha256 its marker recorded:
     blocks that differ are `corrupt` and counted as missing (a run with verify=True computes them again).
     ValueError if `store` is not an exactgeo distance matrix store."""
-    path = Path(os.fspath(store)).absolute()
+    path = _store_path(store)
+    verify = _inputs.flag(verify, "verify")
     settings = _stored_settings(path)
     if settings is None:
         raise ValueError(f"{path} holds no exactgeo distance matrix store")
