@@ -55,9 +55,13 @@ int print_store_status(const std::string& store, bool verify) {
     rows.push_back({"corrupt", std::to_string(corrupt.size()) + ": " + block_ranges(corrupt)});
     for (const CorruptBlock& block : status.corrupt)
       rows.push_back({"block " + std::to_string(block.block), block.reason});
+    std::string names;
+    for (const DamagedArray& array : status.damaged) names += (names.empty() ? "" : ", ") + array.array;
+    rows.push_back({"damaged", std::to_string(status.damaged.size()) + ": " + (names.empty() ? "none" : names)});
+    for (const DamagedArray& array : status.damaged) rows.push_back({array.array, array.reason});
   }
   print_table(rows);
-  return status.missing.empty() ? kExitOk : kExitIncomplete;
+  return status.complete() ? kExitOk : kExitIncomplete;
 }
 
 int run_matrix(const MatrixArguments& arguments) {
@@ -182,7 +186,9 @@ Command add_matrix_command(CLI::App& app) {
   CLI::Option* verify = command->add_flag(
       "--verify", arguments->verify,
       "With --status or --resume: read each block marked done back and check it against the sha256 its marker "
-      "recorded; --status reports those that differ as corrupt (and missing), --resume computes them again");
+      "recorded, and the source, target and mesh arrays against the store's settings; --status reports the blocks "
+      "that differ as corrupt (and missing) and the arrays as damaged, --resume computes the blocks again and "
+      "rewrites the arrays");
   MatrixArguments* a = arguments.get();
   a->mesh.mesh_unused = [a] { return !a->status.empty(); };
   const std::vector<CLI::Option*> computing = {sources, targets, max_distance, threads, out, shard, resume, dtype,
@@ -205,7 +211,8 @@ Command add_matrix_command(CLI::App& app) {
         throw CLI::ValidationError(store_only->get_name(), "applies to .zarr stores only, not '" + a->out + "'");
   });
   command->footer(std::string(kExitCodesHelp) + " matrix --status: 0 when every block is done, " +
-                  std::to_string(kExitIncomplete) + " when some are missing (with --verify: or corrupt).");
+                  std::to_string(kExitIncomplete) + " when some are missing (with --verify: or corrupt, or an array "
+                  "damaged).");
   return {command, [arguments] { return run_matrix(*arguments); }};
 }
 

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <system_error>
@@ -32,6 +33,20 @@ constexpr int kZarrFormat = 3;
 
 exactgeo::Error invalid(const std::string& message) {
   return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, message);
+}
+
+// mesh_sha256 of a mesh given as its counts and its positions (float64) and triangles (uint32) as little-endian
+// bytes, as a store keeps them.
+std::string mesh_digest(std::size_t vertex_count, std::size_t face_count, bool weld,
+                        std::span<const unsigned char> position_bytes, std::span<const unsigned char> triangle_bytes) {
+  Sha256 digest;
+  digest.update("exactgeo-mesh/1");
+  const std::vector<std::int64_t> counts = {static_cast<std::int64_t>(vertex_count),
+                                            static_cast<std::int64_t>(face_count), weld ? 1 : 0};
+  digest.update(little_endian_bytes(counts));
+  digest.update(position_bytes);
+  digest.update(triangle_bytes);
+  return digest.hex_digest();
 }
 
 std::string block_name(std::size_t block) {
@@ -183,8 +198,9 @@ std::optional<Json> read_json(const fs::path& path) {
 struct BlockShape {
   std::size_t rows = 0, columns = 0, block_rows = 1;
   std::string dtype;
-  bool sparse = false;
+  Json max_distance;  // null: the dense layout; a marker records the one its block was computed with
 
+  bool sparse() const { return !max_distance.is_null(); }
   std::size_t item_bytes() const { return dtype == "float32" ? 4 : 8; }
   std::size_t blocks() const { return (rows + block_rows - 1) / block_rows; }
   std::size_t first(std::size_t block) const { return block * block_rows; }
@@ -208,6 +224,8 @@ std::optional<Stored> read_stored(const fs::path& path) {
   std::optional<Json> attributes;
   int zarr_format = kZarrFormat;
   if (const std::optional<Json> root = read_json(path / "zarr.json")) {
+    if (root->value("zarr_format", Json()) != kZarrFormat || root->value("node_type", Json()) != "group")
+      throw invalid("'" + (path / "zarr.json").string() + "' is not the metadata of a Zarr format 3 group");
     attributes = root->value("attributes", Json::object());
   } else if (fs::is_regular_file(path / ".zgroup", error)) {
     zarr_format = 2;
@@ -220,23 +238,32 @@ std::optional<Stored> read_stored(const fs::path& path) {
     throw invalid("'" + path.string() + "' is a Zarr store but not an exactgeo distance matrix: choose another "
                   "store (nothing was changed)");
   // Every count is checked against the others, so that an edited block count cannot hide blocks.
-  const auto count = [&settings](const Json& value) { return value.is_number_unsigned(); };
+  const auto count = [](const Json& value) { return value.is_number_unsigned(); };
+  const auto indices = [&count](const Json& value) {
+    return value.is_array() && std::all_of(value.begin(), value.end(), count);
+  };
   const Json shape = settings.value("shape", Json()), dtype = settings.value("dtype", Json());
   const Json block_rows = settings.value("block_rows", Json()), blocks = settings.value("blocks", Json());
+  const Json sources = settings.value("sources", Json()), targets = settings.value("targets", Json());
   if (!shape.is_array() || shape.size() != 2 || !count(shape[0]) || !count(shape[1]) || !count(block_rows) ||
       block_rows == 0 || !count(blocks) || (dtype != "float32" && dtype != "float64") ||
-      !settings.contains("max_distance"))
-    throw invalid("'" + path.string() + "': its exactgeo attribute has no valid shape, dtype, max_distance, "
-                  "blocks and block_rows");
+      !settings.contains("max_distance") || !indices(sources) || !(targets.is_null() || indices(targets)) ||
+      !count(settings.value("vertex_count", Json())) || !count(settings.value("face_count", Json())) ||
+      !settings.value("weld_duplicate_positions", Json()).is_boolean() ||
+      !settings.value("mesh_sha256", Json()).is_string())
+    throw invalid("'" + path.string() + "': its exactgeo attribute has no valid shape, dtype, max_distance, blocks, "
+                  "block_rows, sources, targets and mesh");
   const BlockShape block_shape{.rows = shape[0].get<std::size_t>(),
                                .columns = shape[1].get<std::size_t>(),
                                .block_rows = block_rows.get<std::size_t>(),
                                .dtype = dtype.get<std::string>(),
-                               .sparse = !settings["max_distance"].is_null()};
-  const Json sources = settings.value("sources", Json()), targets = settings.value("targets", Json());
+                               .max_distance = settings["max_distance"]};
+  const Json layout = settings.value("layout", Json());
+  if (!layout.is_string() || layout.get<std::string>() != (block_shape.sparse() ? "sparse" : "dense"))
+    throw invalid("'" + path.string() + "': its exactgeo attribute's layout " + layout.dump() +
+                  " does not go with its max_distance " + block_shape.max_distance.dump());
   const Json columns = targets.is_null() ? settings.value("vertex_count", Json()) : Json(targets.size());
-  if (!sources.is_array() || sources.size() != block_shape.rows || !(targets.is_null() || targets.is_array()) ||
-      columns != block_shape.columns)
+  if (sources.size() != block_shape.rows || columns != block_shape.columns)
     throw invalid("'" + path.string() + "': its exactgeo attribute's shape " + shape.dump() + " is not its sources "
                   "by its targets (or vertices)");
   if (blocks != block_shape.blocks())
@@ -290,10 +317,11 @@ std::string read_json_into(const fs::path& path, Json& json) {
 }
 
 // Why the array whose metadata is `metadata` (read from `metadata_path`) does not store its chunks as
-// `expected` says (shape, data type, chunks, chunk keys and uncompressed little-endian bytes, the layout blocks
-// are written and read back in); empty if it does.
+// `expected` says (an array of that shape and data type, its chunks, chunk keys and fill value, in uncompressed
+// little-endian bytes: the layout blocks are written and read back in); empty if it does.
 std::string array_problem(const fs::path& metadata_path, const Json& metadata, const Json& expected) {
-  for (const char* key : {"shape", "data_type", "chunk_grid", "chunk_key_encoding", "codecs"}) {
+  for (const char* key :
+       {"zarr_format", "node_type", "shape", "data_type", "chunk_grid", "chunk_key_encoding", "fill_value", "codecs"}) {
     const Json found = metadata.value(key, Json());
     if (found == expected[key]) continue;
     if (std::string(key) != "codecs")
@@ -339,35 +367,55 @@ std::string hash_chunk(const fs::path& path, const BlockShape& shape, std::size_
   return {};
 }
 
-// Hashes sparse block `block` as its writer did: the values of its pieces data, indices and indptr, each a
-// one-chunk array. Zarr leaves out a chunk holding the fill value alone (0): an absent chunk reads as zeros.
+// An array stored whole in one chunk, as write_array writes it (the pieces of a sparse block, the axes, the mesh).
+struct WholeArray {
+  std::vector<std::size_t> shape;
+  std::vector<unsigned char> bytes;  // little-endian
+};
+
+// Reads the array in `folder` whose data type is `data_type` and whose shape has `rank` sizes, whatever they are,
+// into `array`; returns why it cannot be read as write_array would have written an array of that shape (naming
+// the file), or nothing. Zarr leaves out a chunk holding the fill value alone (0): an absent chunk reads as zeros.
+std::string read_whole_array(const fs::path& folder, std::string_view data_type, std::size_t rank, WholeArray& array) {
+  const fs::path metadata_path = folder / "zarr.json";
+  Json metadata;
+  if (std::string problem = read_json_into(metadata_path, metadata); !problem.empty()) return problem;
+  const Json shape = metadata.value("shape", Json());
+  if (!shape.is_array() || shape.size() != rank ||
+      !std::all_of(shape.begin(), shape.end(), [](const Json& size) { return size.is_number_unsigned(); }))
+    return "'" + metadata_path.string() + "': its shape is " + shape.dump() + ", not " + std::to_string(rank) +
+           " sizes";
+  array.shape = shape.get<std::vector<std::size_t>>();
+  std::vector<std::size_t> chunks = array.shape;
+  for (std::size_t& size : chunks) size = std::max<std::size_t>(1, size);
+  const Json layout = array_metadata(array.shape, chunks, data_type, 0, {});
+  if (std::string problem = array_problem(metadata_path, metadata, layout); !problem.empty()) return problem;
+  std::size_t expected = data_type == "float32" || data_type == "uint32" ? 4 : 8;
+  for (std::size_t size : array.shape) expected *= size;
+  fs::path chunk = folder / "c";  // chunk (0, ..., 0)
+  for (std::size_t d = 0; d < rank; ++d) chunk /= "0";
+  std::error_code error;
+  if (!fs::exists(chunk, error) && !error) {
+    array.bytes.assign(expected, 0);
+    return {};
+  }
+  std::optional<std::vector<unsigned char>> bytes = read_file(chunk);
+  if (!bytes) return "'" + chunk.string() + "' cannot be read";
+  if (bytes->size() != expected)
+    return "'" + chunk.string() + "' has " + std::to_string(bytes->size()) + " bytes, not " + std::to_string(expected);
+  array.bytes = std::move(*bytes);
+  return {};
+}
+
+// Hashes sparse block `block` as its writer did: the values of its pieces data, indices and indptr.
 std::string hash_pieces(const fs::path& path, const BlockShape& shape, std::size_t block, Sha256& digest) {
   for (const auto& [name, data_type] : {std::pair<std::string, std::string>{"data", shape.dtype},
                                         {"indices", "uint32"}, {"indptr", "int64"}}) {
-    const fs::path folder = path / "csr" / block_name(block) / name, metadata_path = folder / "zarr.json";
-    Json metadata;
-    if (std::string problem = read_json_into(metadata_path, metadata); !problem.empty()) return problem;
-    const Json shape_found = metadata.value("shape", Json());
-    if (!shape_found.is_array() || shape_found.size() != 1 || !shape_found[0].is_number_unsigned())
-      return "'" + metadata_path.string() + "': its shape is " + shape_found.dump() + ", not [a count]";
-    if (metadata.value("fill_value", Json()) != 0) return "'" + metadata_path.string() + "': its fill_value is not 0";
-    const std::size_t count = shape_found[0].get<std::size_t>();
-    const std::vector<std::size_t> size = {count}, chunks = {std::max<std::size_t>(1, count)};
-    const Json layout = array_metadata(size, chunks, data_type, 0, {name});
-    if (std::string problem = array_problem(metadata_path, metadata, layout); !problem.empty()) return problem;
-    const std::size_t expected = count * (data_type == "float32" || data_type == "uint32" ? 4 : 8);
-    const fs::path chunk = folder / "c" / "0";
-    std::error_code error;
-    if (!fs::exists(chunk, error) && !error) {
-      digest.update(std::vector<unsigned char>(expected, 0));
-      continue;
-    }
-    const std::optional<std::vector<unsigned char>> bytes = read_file(chunk);
-    if (!bytes) return "'" + chunk.string() + "' cannot be read";
-    if (bytes->size() != expected)
-      return "'" + chunk.string() + "' has " + std::to_string(bytes->size()) + " bytes, not " +
-             std::to_string(expected);
-    digest.update(*bytes);
+    WholeArray piece;
+    if (std::string problem = read_whole_array(path / "csr" / block_name(block) / name, data_type, 1, piece);
+        !problem.empty())
+      return problem;
+    digest.update(piece.bytes);
   }
   return {};
 }
@@ -382,16 +430,87 @@ std::string block_problem(const fs::path& path, const BlockShape& shape, std::si
   const Json rows = {shape.first(block), shape.end(block)};
   if (!record.is_object() || !record.value("sha256", Json()).is_string() || record.value("rows", Json()) != rows)
     return "'" + marker.string() + "' does not record rows " + rows.dump() + " and their sha256";
+  // No other file repeats the cut-off: a store whose settings claim another one is caught here.
+  if (record.value("max_distance", Json("none recorded")) != shape.max_distance)
+    return "'" + marker.string() + "' records max_distance " + record.value("max_distance", Json("none")).dump() +
+           ", not the store's " + shape.max_distance.dump();
   Sha256 digest;
   const std::string problem =
-      shape.sparse ? hash_pieces(path, shape, block, digest) : hash_chunk(path, shape, block, digest);
+      shape.sparse() ? hash_pieces(path, shape, block, digest) : hash_chunk(path, shape, block, digest);
   if (!problem.empty()) return problem;
   if (digest.hex_digest() == record["sha256"].get<std::string>()) return {};
-  if (shape.sparse)
+  if (shape.sparse())
     return "the pieces in '" + (path / "csr" / block_name(block)).string() + "' do not hash to the sha256 in '" +
            marker.string() + "'";
   return "'" + (path / "distances" / "c" / std::to_string(block) / "0").string() +
          "' does not hash to the sha256 in '" + marker.string() + "'";
+}
+
+// The arrays every block shares that do not hold what the settings record, and why (naming the file): `source`
+// and `target` the settings' sources and targets (every vertex without targets), mesh/vertices and mesh/faces the
+// mesh whose sha256 they record. The settings are read_stored's, checked for their types.
+std::vector<DamagedArray> damaged_shared_arrays(const fs::path& path, const Json& settings) {
+  std::vector<DamagedArray> damaged;
+  const std::size_t vertex_count = settings["vertex_count"].get<std::size_t>();
+  std::vector<std::int64_t> targets(vertex_count);
+  std::iota(targets.begin(), targets.end(), 0);
+  if (!settings["targets"].is_null()) targets = settings["targets"].get<std::vector<std::int64_t>>();
+  const std::vector<std::int64_t> sources = settings["sources"].get<std::vector<std::int64_t>>();
+  for (const auto& [name, expected] : {std::pair<std::string, const std::vector<std::int64_t>&>{"source", sources},
+                                       {"target", targets}}) {
+    WholeArray array;
+    std::string problem = read_whole_array(path / name, "int64", 1, array);
+    if (problem.empty() && array.bytes != little_endian_bytes(expected))
+      problem = "'" + (path / name).string() + "' does not hold the " + name + "s its store's zarr.json records";
+    if (!problem.empty()) damaged.push_back({name, std::move(problem)});
+  }
+  WholeArray vertices, faces;
+  Json group;
+  std::string problem = read_json_into(path / "mesh" / "zarr.json", group);
+  if (problem.empty() &&
+      (group.value("zarr_format", Json()) != kZarrFormat || group.value("node_type", Json()) != "group"))
+    problem = "'" + (path / "mesh" / "zarr.json").string() + "' is not the metadata of a Zarr format 3 group";
+  if (problem.empty()) problem = read_whole_array(path / "mesh" / "vertices", "float64", 2, vertices);
+  if (problem.empty()) problem = read_whole_array(path / "mesh" / "faces", "uint32", 2, faces);
+  const std::size_t face_count = settings["face_count"].get<std::size_t>();
+  if (problem.empty() &&
+      (vertices.shape != std::vector<std::size_t>{vertex_count, 3} ||
+       faces.shape != std::vector<std::size_t>{face_count, 3} ||
+       mesh_digest(vertex_count, face_count, settings["weld_duplicate_positions"].get<bool>(), vertices.bytes,
+                   faces.bytes) != settings["mesh_sha256"].get<std::string>()))
+    problem = "'" + (path / "mesh").string() + "' does not hold the mesh whose sha256 its store's zarr.json records";
+  if (!problem.empty()) damaged.push_back({"mesh", std::move(problem)});
+  return damaged;
+}
+
+// The arrays every block shares, into the store at `path`: written straight into a store being built, or in a
+// store in use (`in_use`) each built beside its place and renamed into it, so that one replaced while other shards
+// read it appears whole. (A store being built is renamed into place whole already; building a folder inside
+// another would leave the outer one behind on an interrupt.)
+void write_shared_arrays(const fs::path& path, const StoreSettings& settings, const exactgeo::Mesh& mesh,
+                         bool in_use) {
+  const auto array = [in_use](const fs::path& folder, std::vector<std::size_t> shape, std::string_view data_type,
+                              const Json& fill_value, const std::vector<std::string>& dimension_names,
+                              std::span<const unsigned char> bytes) {
+    const auto write = [&](const fs::path& into) {
+      write_array(into, shape, data_type, fill_value, dimension_names, bytes);
+    };
+    if (in_use)
+      build_folder_into_place(folder, Existing::replaced, write);
+    else
+      write(folder);
+  };
+  const std::vector<std::int64_t> sources(settings.sources.begin(), settings.sources.end());
+  std::vector<std::int64_t> targets(settings.columns);
+  for (std::size_t c = 0; c < targets.size(); ++c)
+    targets[c] = settings.targets ? (*settings.targets)[c] : std::int64_t(c);
+  array(path / "source", {sources.size()}, "int64", 0, {"source"}, little_endian_bytes(sources));
+  array(path / "target", {settings.columns}, "int64", 0, {"target"}, little_endian_bytes(targets));
+  write_group(path / "mesh");
+  array(path / "mesh" / "vertices", {mesh.vertex_count(), 3}, "float64", 0.0, {"vertex", "xyz"},
+        little_endian_bytes(mesh.positions()));
+  array(path / "mesh" / "faces", {mesh.face_count(), 3}, "uint32", 0, {"face", "corner"},
+        little_endian_bytes(mesh.triangles()));
 }
 
 // The whole store, built beside `path` and renamed into place, unless another process put one there first: of
@@ -411,19 +530,7 @@ void create_store(const fs::path& path, const StoreSettings& settings, const exa
       write_json_whole(building / "distances" / "zarr.json",
                        array_metadata(shape, chunks, settings.dtype, "NaN", {"source", "target"}));
     }
-    const std::vector<std::int64_t> sources(settings.sources.begin(), settings.sources.end());
-    std::vector<std::int64_t> targets(settings.columns);
-    for (std::size_t c = 0; c < targets.size(); ++c)
-      targets[c] = settings.targets ? (*settings.targets)[c] : std::int64_t(c);
-    write_array(building / "source", std::vector<std::size_t>{rows}, "int64", 0, {"source"},
-                little_endian_bytes(sources));
-    write_array(building / "target", std::vector<std::size_t>{settings.columns}, "int64", 0, {"target"},
-                little_endian_bytes(targets));
-    write_group(building / "mesh");
-    write_array(building / "mesh" / "vertices", std::vector<std::size_t>{mesh.vertex_count(), 3}, "float64", 0.0,
-                {"vertex", "xyz"}, little_endian_bytes(mesh.positions()));
-    write_array(building / "mesh" / "faces", std::vector<std::size_t>{mesh.face_count(), 3}, "uint32", 0,
-                {"face", "corner"}, little_endian_bytes(mesh.triangles()));
+    write_shared_arrays(building, settings, mesh, /*in_use=*/false);
     write_group(building / "done");
   });
 }
@@ -434,6 +541,12 @@ class StoreWriter final : public MatrixWriter {
   StoreWriter(fs::path path, StoreSettings settings, const BlockShape& shape, const StoreRequest& request)
       : path_(std::move(path)), settings_(std::move(settings)), shard_(request.shard), quiet_(request.quiet),
         verify_(request.resume && request.verify), started_(std::chrono::steady_clock::now()) {
+    // The request's settings are the store's (open_matrix_store compared them), and its mesh the one they record.
+    const std::vector<DamagedArray> damaged =
+        verify_ ? damaged_shared_arrays(path_, settings_json(settings_)) : std::vector<DamagedArray>();
+    for (const DamagedArray& array : damaged)
+      if (!quiet_) std::fprintf(stderr, "exactgeo: %s; written again\n", array.reason.c_str());
+    if (!damaged.empty()) write_shared_arrays(path_, settings_, *request.mesh, /*in_use=*/true);
     const std::vector<std::size_t> done = done_blocks(path_, settings_.blocks());
     for (std::size_t block : shard_blocks(shard_, settings_.blocks())) {
       if (!request.resume || !std::binary_search(done.begin(), done.end(), block)) {
@@ -492,7 +605,9 @@ class StoreWriter final : public MatrixWriter {
   void write_block(std::size_t block, std::size_t end) {
     remove_marker(block);
     const std::size_t first = block * settings_.block_rows;
-    Json record = {{"block", block}, {"rows", {first, end}}};
+    Json record = {{"block", block},
+                   {"rows", {first, end}},
+                   {"max_distance", settings_.max_distance ? Json(*settings_.max_distance) : Json()}};
     Sha256 digest;
     if (settings_.max_distance)
       record["nnz"] = write_csr(block, digest);
@@ -630,14 +745,8 @@ Json settings_json(const StoreSettings& settings) {
 }
 
 std::string mesh_sha256(const exactgeo::Mesh& mesh, bool weld) {
-  Sha256 digest;
-  digest.update("exactgeo-mesh/1");
-  const std::vector<std::int64_t> counts = {static_cast<std::int64_t>(mesh.vertex_count()),
-                                            static_cast<std::int64_t>(mesh.face_count()), weld ? 1 : 0};
-  digest.update(little_endian_bytes(counts));
-  digest.update(little_endian_bytes(mesh.positions()));
-  digest.update(little_endian_bytes(mesh.triangles()));
-  return digest.hex_digest();
+  return mesh_digest(mesh.vertex_count(), mesh.face_count(), weld, little_endian_bytes(mesh.positions()),
+                     little_endian_bytes(mesh.triangles()));
 }
 
 std::size_t default_block_rows(std::size_t rows, std::size_t columns, std::size_t item_bytes) {
@@ -666,7 +775,7 @@ Json array_metadata(std::span<const std::size_t> shape, std::span<const std::siz
 std::vector<std::string> store_differences(const Json& stored, const Json& wanted, bool explicit_block_rows) {
   std::vector<std::string> found;
   const auto differs = [&](const char* key) { return stored.value(key, Json()) != wanted[key]; };
-  if (differs("mesh_sha256"))
+  if (differs("mesh_sha256") || differs("vertex_count") || differs("face_count") || differs("weld_duplicate_positions"))
     found.push_back("another mesh (the store's: " + describe_mesh(stored) + "; this one: " + describe_mesh(wanted) + ")");
   for (const auto& [key, noun] : {std::pair{"sources", "sources"}, std::pair{"targets", "targets"}})
     if (differs(key))
@@ -685,12 +794,12 @@ StoreStatus read_store_status(const fs::path& store, bool verify) {
   const fs::path path = fs::absolute(store);
   const std::optional<Stored> stored = read_stored(path);
   if (!stored) throw invalid("'" + path.string() + "' holds no exactgeo distance matrix store");
-  StoreStatus status{stored->settings, done_blocks(path, stored->shape.blocks()), {}, {}};
+  StoreStatus status{stored->settings, done_blocks(path, stored->shape.blocks()), {}, {}, {}};
   if (verify) {
     if (stored->zarr_format != kZarrFormat)
       throw invalid("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
                     " store: the command verifies format 3 stores only");
-    if (!stored->shape.sparse)
+    if (!stored->shape.sparse())
       if (const std::string problem = distances_problem(path, stored->shape); !problem.empty())
         throw invalid("cannot verify '" + path.string() + "': " + problem);
     std::vector<std::size_t> intact;
@@ -702,6 +811,7 @@ StoreStatus read_store_status(const fs::path& store, bool verify) {
         status.corrupt.push_back({block, std::move(problem)});
     }
     status.done = std::move(intact);
+    status.damaged = damaged_shared_arrays(path, stored->settings);
   }
   for (std::size_t block = 0; block < stored->shape.blocks(); ++block)
     if (!std::binary_search(status.done.begin(), status.done.end(), block)) status.missing.push_back(block);

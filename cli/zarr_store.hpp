@@ -83,14 +83,24 @@ struct CorruptBlock {
   std::string reason;
 };
 
+// An array every block shares (source, target, mesh) that does not hold what the store's settings record, and why
+// (naming the file).
+struct DamagedArray {
+  std::string array;
+  std::string reason;
+};
+
 // A store's settings and its done blocks, for --status. With `verify`, each done block's data is read back and
 // hashed as its marker's sha256 was (exactgeo.distributed.store_status(verify=True) does the same): those that
-// differ are corrupt, and missing. Throws exactgeo::Error naming the file if `path` is not an exactgeo store,
-// or (verifying) if its distances array is not stored as the command writes it.
+// differ are corrupt, and missing; and the arrays every block shares (source, target, mesh/) are checked against
+// the settings. Throws exactgeo::Error naming the file if `path` is not an exactgeo store, or (verifying) if its
+// distances array is not stored as the command writes it.
 struct StoreStatus {
   nlohmann::ordered_json settings;
   std::vector<std::size_t> done, missing;  // missing: corrupt blocks included
   std::vector<CorruptBlock> corrupt;
+  std::vector<DamagedArray> damaged;  // with verify
+  bool complete() const { return missing.empty() && damaged.empty(); }
 };
 StoreStatus read_store_status(const std::filesystem::path& path, bool verify = false);
 
@@ -103,7 +113,8 @@ struct StoreRequest {
   std::size_t block_rows = 0;  // 0: the store's, or the default for a new one
   Shard shard;
   bool resume = false;  // skip the shard's blocks already marked done
-  bool verify = false;  // with resume: read those blocks back first, and compute again any not matching its marker
+  bool verify = false;  // with resume: read those blocks back first, and compute again any not matching its marker;
+                        // write the shared arrays again if they do not hold what the settings record
   bool quiet = false;   // no summary line
 };
 

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -211,6 +213,129 @@ TEST_P(PathsOf, PathsGetThroughCoincidentVertices) {
       EXPECT_EQ(path.locations.back().vertex, v);
     }
   }
+}
+
+// Issue 34, finding 8 (README, "A distance and the length of the path traced to the same vertex"): on flat meshes
+// with small integer coordinates the field and the path's length are two roundings of one straight segment, the
+// field's through the unfolding of a triangle strip, the path's through the sum of its 3D pieces. The README's
+// claim is measured here, on the meshes it names and on seeded flat triangulations: how often the two agree to
+// the last bit and how many units in the last place (ulps) they differ by at most.
+
+// The ulps between two finite doubles of one sign: the difference of their bit patterns, which counts the
+// doubles between them.
+std::int64_t ulps_apart(double a, double b) {
+  return std::abs(std::bit_cast<std::int64_t>(a) - std::bit_cast<std::int64_t>(b));
+}
+
+// A flat grid of nx by ny squares of side 5 with random diagonals, each vertex moved by -1, 0 or 1 along x and
+// along y: integer coordinates, and no triangle turned over (a corner lies at least 3.5 from its opposite edge's
+// line, and moving the three corners by at most 1.42 each changes that by at most 2.9).
+MeshSoup jittered_integer_grid(Random& random, int nx, int ny) {
+  constexpr double kSide = 5;
+  MeshSoup soup;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+      exactgeo_test::add_vertex(soup, {kSide * i + (static_cast<double>(random.below(3)) - 1),
+                                       kSide * j + (static_cast<double>(random.below(3)) - 1), 0});
+  const auto vertex = [nx](int i, int j) { return static_cast<std::uint32_t>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const std::uint32_t a = vertex(i, j), b = vertex(i + 1, j), c = vertex(i + 1, j + 1), d = vertex(i, j + 1);
+      if (random.below(2) == 0) {
+        exactgeo_test::add_triangle(soup, a, b, c);
+        exactgeo_test::add_triangle(soup, a, c, d);
+      } else {
+        exactgeo_test::add_triangle(soup, a, b, d);
+        exactgeo_test::add_triangle(soup, b, c, d);
+      }
+    }
+  return soup;
+}
+
+// The field against the path's length at every vertex but the source, over several sources; on a convex flat
+// mesh, where a geodesic is a straight segment, each against the segment's length rounded correctly (IEEE's
+// square root of a sum of squares of small integers, which a double holds exactly; std::hypot may be a unit off).
+struct LastBits {
+  std::size_t vertices = 0, equal = 0;
+  std::int64_t most_ulps = 0, field_from_straight = 0, path_from_straight = 0;
+  std::string worst;
+
+  void add(const exactgeo::Mesh& mesh, std::uint32_t source, bool convex) {
+    exactgeo::GeodesicSolver solver(mesh);
+    const std::uint32_t sources[] = {source};
+    const exactgeo::GeodesicResult& result = solver.solve(sources);
+    const auto p = mesh.positions();
+    const auto straight_length = [&](std::uint32_t a, std::uint32_t b) {
+      double squares = 0;  // exact: small integers
+      for (int k = 0; k < 3; ++k) squares += (p[3 * a + k] - p[3 * b + k]) * (p[3 * a + k] - p[3 * b + k]);
+      return std::sqrt(squares);
+    };
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+      if (v == source) continue;
+      const double distance = result.distances[v], length = solver.path_to_vertex(v).length;
+      if (convex) {
+        const double straight = straight_length(source, v);
+        field_from_straight = std::max(field_from_straight, ulps_apart(distance, straight));
+        path_from_straight = std::max(path_from_straight, ulps_apart(length, straight));
+      }
+      const std::int64_t ulps = ulps_apart(distance, length);
+      ++vertices;
+      equal += ulps == 0;
+      if (ulps <= most_ulps) continue;
+      most_ulps = ulps;
+      char text[160];
+      std::snprintf(text, sizeof text, "source %u, vertex %u: distance %.17g, path length %.17g", source, v, distance,
+                    length);
+      worst = text;
+    }
+  }
+  double equal_fraction() const { return static_cast<double>(equal) / static_cast<double>(vertices); }
+};
+
+// The README's figures: from a corner of the 8 x 8 grid, 48% equal and 2 ulps at most; from each of its vertices
+// 48% and 4 ulps, the field within 2 ulps of the straight segment and the path within 3; from each vertex of the
+// 16 x 16 grid, 37% and 7 ulps (the difference grows with the pieces a path sums and the triangles a strip
+// unfolds).
+TEST(PathsLastBits, OnFlatIntegerGridsTheFieldAndThePathDifferByTheUlpsTheReadmeSays) {
+  struct Grid {
+    int n;
+    bool every_source;  // or from vertex 0, a corner
+    std::int64_t most_ulps;
+    double equal_fraction;
+    std::int64_t field_from_straight, path_from_straight;
+  };
+  const Grid grids[] = {{8, false, 2, 0.47, 2, 2}, {8, true, 4, 0.48, 2, 3}, {16, true, 7, 0.37, 5, 4}};
+  for (const Grid& grid : grids) {
+    SCOPED_TRACE(testing::Message() << grid.n << " x " << grid.n << " grid of unit squares, from "
+                                    << (grid.every_source ? "every vertex" : "vertex 0"));
+    const exactgeo::Mesh mesh(exactgeo::make_grid(grid.n, grid.n, grid.n, grid.n));
+    LastBits bits;
+    for (std::uint32_t source = 0; source < (grid.every_source ? mesh.vertex_count() : 1); ++source)
+      bits.add(mesh, source, /*convex=*/true);
+    EXPECT_LE(bits.most_ulps, grid.most_ulps) << bits.worst;
+    EXPECT_GE(bits.equal_fraction(), grid.equal_fraction) << bits.equal << " of " << bits.vertices;
+    EXPECT_LE(bits.field_from_straight, grid.field_from_straight);
+    EXPECT_LE(bits.path_from_straight, grid.path_from_straight);
+    std::printf("[ measured ] %dx%d grid from %s: %zu of %zu equal (%.1f%%), %lld ulps at most; from the straight "
+                "segment, the field %lld ulps, the path %lld\n",
+                grid.n, grid.n, grid.every_source ? "every vertex" : "vertex 0", bits.equal, bits.vertices,
+                100 * bits.equal_fraction(), static_cast<long long>(bits.most_ulps),
+                static_cast<long long>(bits.field_from_straight), static_cast<long long>(bits.path_from_straight));
+  }
+}
+
+// Measured: 30 seeded triangulations of 6 x 6 squares, from 4 random vertices each: 57% equal, 6 ulps at most.
+TEST(PathsLastBits, OnFlatIntegerTriangulationsTheFieldAndThePathDifferBySixUlpsAtMost) {
+  LastBits bits;
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) {
+    Random random(seed);
+    const exactgeo::Mesh mesh(jittered_integer_grid(random, 6, 6));
+    for (int i = 0; i < 4; ++i) bits.add(mesh, random.below(mesh.vertex_count()), /*convex=*/false);
+  }
+  EXPECT_LE(bits.most_ulps, 6) << bits.worst;
+  EXPECT_GE(bits.equal_fraction(), 0.55) << bits.equal << " of " << bits.vertices;
+  std::printf("[ measured ] jittered integer triangulations: %zu of %zu equal (%.1f%%), %lld ulps at most\n",
+              bits.equal, bits.vertices, 100 * bits.equal_fraction(), static_cast<long long>(bits.most_ulps));
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ import numpy as np
 from . import _core, _inputs
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
-from ._surface_point import SurfacePoint, SurfacePoints, Sites, source_sites, target_points
+from ._surface_point import SurfacePoint, SurfacePoints, Sites, holds_points, source_sites, target_points
 from ._warnings import warn
 
 if TYPE_CHECKING:
@@ -211,8 +211,8 @@ class GeodesicSolver:
 
     def path_to_vertex(self, vertex: int) -> GeodesicPath:
         """The shortest path of the last run to input vertex `vertex`."""
-        checked = _inputs.vertex_array(vertex, self._mesh.vertex_count, "vertex", lambda i: "vertex")
-        return GeodesicPath._of(self._core.path_to_vertex(int(checked[0]), self._run_number()))
+        checked = _inputs.vertex_index(vertex, self._mesh.vertex_count, "vertex", "vertex")
+        return GeodesicPath._of(self._core.path_to_vertex(checked, self._run_number()))
 
     def path_to_target(self, target: int) -> GeodesicPath:
         """The shortest path of the last run to its target number `target`."""
@@ -279,6 +279,7 @@ def distance(
     (what gdist and pygeodesic return). See GeodesicSolver.solve for the forms sources and targets take,
     and for `progress`.
     """
+    with_nearest = _inputs.flag(return_nearest, "return_nearest")
     result = GeodesicSolver(mesh).solve(
         sources, targets, max_distance=max_distance, targets_beyond=targets_beyond, progress=progress, **options
     )
@@ -286,7 +287,7 @@ def distance(
         values, nearest = result.distances, result.nearest_source
     else:
         values, nearest = result.target_distances, result.target_nearest_source
-    return (values, nearest) if return_nearest else values
+    return (values, nearest) if with_nearest else values
 
 
 @overload
@@ -323,12 +324,12 @@ def path(
     vertices. The run stops once the targets are final.
     """
     solver = GeodesicSolver(mesh)
-    solver.solve(sources, target, max_distance=max_distance, **options)
-    if isinstance(target, SurfacePoint):
-        return solver.path_to_target(0)
-    if isinstance(target, (int, np.integer)):
-        return solver.path_to_vertex(int(target))
-    if isinstance(target, SurfacePoints) or (isinstance(target, Sequence) and any(isinstance(t, SurfacePoint) for t in target)):
+    if holds_points(target):
+        solver.solve(sources, target, max_distance=max_distance, **options)
+        if isinstance(target, SurfacePoint):
+            return solver.path_to_target(0)
         return [solver.path_to_target(i) for i in range(len(target))]
     vertices = _inputs.vertex_array(target, mesh.vertex_count, "target", lambda i: f"target {i}: vertex")
-    return [solver.path_to_vertex(int(v)) for v in vertices]
+    solver.solve(sources, vertices, max_distance=max_distance, **options)
+    paths = [solver.path_to_vertex(int(v)) for v in vertices]
+    return paths[0] if isinstance(target, (int, np.integer)) else paths

@@ -154,15 +154,22 @@ def vertex_array(vertices: object, vertex_count: int, what: str, name: Callable[
     )
 
 
+def vertex_index(value: object, vertex_count: int, what: str, name: str) -> int:
+    """One vertex index, as vertex_array checks it; `name` names it in messages as the library would."""
+    if isinstance(value, (list, tuple)) or (isinstance(value, np.ndarray) and value.ndim != 0):
+        raise TypeError(f"{what} must be one vertex index, not {_brief(value)}")
+    return int(vertex_array(value, vertex_count, what, lambda i: name)[0])
+
+
 def count(value: int, what: str, minimum: int = 0, maximum: int = INDEX_LIMIT - 1) -> int:
     """A whole number of things (samples, threads, a target's number), from `minimum` to `maximum`: the
     default range is the library's unsigned 32-bit one. A bool is refused, not counted as 0 or 1."""
     if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{what} must be an integer, not {value!r}")
+        raise TypeError(f"{what} must be an integer, not {_brief(value)}")
     try:
         number = operator.index(value)
     except TypeError:
-        raise TypeError(f"{what} must be an integer, not {value!r}") from None
+        raise TypeError(f"{what} must be an integer, not {_brief(value)}") from None
     if number < minimum:
         raise ValueError(f"{what} must be at least {minimum}, not {number}")
     if number > maximum:
@@ -181,32 +188,60 @@ def flag(value: object, what: str) -> bool:
     would read "no" and "False" as true."""
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
-    raise TypeError(f"{what} must be True or False, not {value!r}")
+    raise TypeError(f"{what} must be True or False, not {_brief(value)}")
 
 
 def text(value: object, what: str) -> str:
     """A str, such as a name the library looks up."""
     if isinstance(value, str):
         return value
-    raise TypeError(f"{what} must be a string, not {value!r}")
+    raise TypeError(f"{what} must be a string, not {_brief(value)}")
+
+
+def real(value: object, what: str) -> float:
+    """A real number (numpy's too) as a float; a bool is refused, not taken as 0 or 1. Its range is the library's
+    or the caller's to check."""
+    if not _is_real(value):
+        raise TypeError(f"{what} must be a number, not {_brief(value)}")
+    return float(value)  # type: ignore[arg-type]
+
+
+def optional_real(value: object, what: str) -> float | None:
+    """None, or a real number as real() takes it."""
+    if value is not None and not _is_real(value):
+        raise TypeError(f"{what} must be a number or None, not {_brief(value)}")
+    return None if value is None else float(value)  # type: ignore[arg-type]
+
+
+def _is_real(value: object) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
+def reals(values: object, what: str, size: int | None = None) -> np.ndarray:
+    """One number or a 1-D sequence of them (exactly `size` if given) as a float64 array."""
+    try:
+        array = np.asarray(values)
+    except ValueError:  # a ragged nesting
+        array = np.empty(0, dtype=object)
+    if array.dtype.kind not in "fiu" or array.ndim > 1 or (size is not None and array.shape != (size,)):
+        wanted = f"{size} numbers" if size is not None else "a number or a 1-D sequence of numbers"
+        raise TypeError(f"{what} must be {wanted}, not {_brief(values)}")
+    return np.atleast_1d(array.astype(np.float64))
 
 
 def cutoff(max_distance: float | None) -> float:
     """None means no cut-off; the library checks that a given one is not negative or NaN."""
-    if max_distance is None:
-        return math.inf
-    if isinstance(max_distance, (bool, np.bool_)) or not isinstance(max_distance, numbers.Real):
-        raise TypeError(f"max_distance must be a number or None, not {max_distance!r}")
-    return float(max_distance)
+    checked = optional_real(max_distance, "max_distance")
+    return math.inf if checked is None else checked
 
 
-def path(value: object) -> bytes:
+def path(value: object, what: str = "path") -> bytes:
     """A file name as the bytes the system takes: from a str (undecodable bytes kept, as os.fsencode keeps
     them), bytes, or an os.PathLike of either."""
     try:
         return os.fsencode(value)  # type: ignore[arg-type]
     except TypeError:
-        raise TypeError(f"path must be a str, bytes or os.PathLike, not {type(value).__name__}") from None
+        raise TypeError(f"{what} must be a str, bytes or os.PathLike, not {type(value).__name__}") from None
 
 
 def _check_shape(array: np.ndarray, what: str, columns: int | None) -> None:
@@ -227,6 +262,12 @@ def _plain(value: np.generic) -> object:
     """1.5 and -1 rather than np.float64(1.5) and np.int64(-1) in messages."""
     number = value.item()
     return int(number) if isinstance(number, float) and number.is_integer() else number
+
+
+def _brief(value: object) -> str:
+    """A value as a message quotes it: its repr, cut to a line."""
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:57]}..."
 
 
 def _dtype_text(array: np.ndarray) -> str:

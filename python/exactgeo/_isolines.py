@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _inputs
 from ._mesh import Mesh, checked_mesh
 
 
@@ -35,9 +36,7 @@ def isolines(mesh: Mesh, values: Any, levels: Any) -> list[list[np.ndarray]]:
     """
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
-    level_list = np.atleast_1d(np.asarray(levels, dtype=np.float64))
-    if level_list.ndim != 1:
-        raise ValueError(f"levels must be a number or a 1-D sequence of numbers, not shape {level_list.shape}")
+    level_list = _inputs.reals(levels, "levels")
     faces = surface.faces.astype(np.int64)
     corner_values = field[faces]
     usable = np.isfinite(corner_values).all(axis=1)

@@ -46,14 +46,14 @@ def _require(obj: object, attributes: tuple[str, ...], expected: str) -> None:
     missing = [name for name in attributes if not hasattr(obj, name)]
     if missing:
         raise TypeError(
-            f"expected {expected}, got {type_name(obj)} (it has no attribute {', '.join(map(repr, missing))})"
+            f"mesh must be {expected}, not {type_name(obj)} (it has no attribute {', '.join(map(repr, missing))})"
         )
 
 
 def from_trimesh(obj: Any) -> tuple[Any, Any]:
     if hasattr(obj, "geometry") and not hasattr(obj, "faces"):
         raise TypeError(
-            f"expected a trimesh.Trimesh, got a scene ({type_name(obj)}) of {len(obj.geometry)} meshes: "
+            f"mesh must be a trimesh.Trimesh, not a scene ({type_name(obj)}) of {len(obj.geometry)} meshes: "
             "trimesh.load(path, force='mesh') or scene.to_geometry() gives one mesh"
         )
     _require(obj, ("vertices", "faces"), "a trimesh.Trimesh (with .vertices and .faces)")
@@ -135,7 +135,7 @@ def vertices_and_faces(obj: Any) -> tuple[Any, Any]:
         return CONVERTERS[kind](obj)
     if isinstance(obj, (tuple, list)) and len(obj) == 2:
         return obj[0], obj[1]
-    raise TypeError(f"cannot make an exactgeo.Mesh from {type_name(obj)}: accepted are {_ACCEPTED}")
+    raise TypeError(f"mesh must be {_ACCEPTED}, not {type_name(obj)}")
 
 
 CONVERTERS = {"trimesh": from_trimesh, "meshio": from_meshio, "pyvista": from_pyvista, "open3d": from_open3d}

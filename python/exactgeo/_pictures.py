@@ -9,6 +9,7 @@ from typing import Any, Callable, Sequence, Union
 
 import numpy as np
 
+from . import _inputs
 from ._isolines import _per_vertex, isolines as _isolines
 from ._mesh import Mesh, checked_mesh
 
@@ -33,6 +34,7 @@ def colormap(cmap: Colormap) -> Callable[[np.ndarray], np.ndarray]:
     is installed, else the built-in ramp for "viridis"; a callable (a matplotlib Colormap) as it is."""
     if callable(cmap):
         return lambda t: np.asarray(cmap(t), dtype=np.float64)[:, :3]
+    _inputs.text(cmap, "cmap")
     try:
         import matplotlib
     except ImportError:
@@ -42,6 +44,8 @@ def colormap(cmap: Colormap) -> Callable[[np.ndarray], np.ndarray]:
             f"cmap {cmap!r} needs matplotlib (pip install matplotlib); without it only 'viridis' (a built-in "
             "ramp) is available"
         ) from None
+    if cmap not in matplotlib.colormaps:
+        raise ValueError(f"cmap {cmap!r} is not a matplotlib colormap (matplotlib.colormaps lists them)")
     table = matplotlib.colormaps[cmap]
     return lambda t: np.asarray(table(np.clip(t, 0.0, 1.0)), dtype=np.float64)[:, :3]
 
@@ -65,6 +69,12 @@ def vertex_colours(values: np.ndarray, cmap: Colormap, vmin: float | None, vmax:
     return colours
 
 
+def _check_value_name(value_name: object, holder: str) -> None:
+    """A file's name for the values must be a plain name, as `holder` in the file's header needs."""
+    if not _inputs.text(value_name, "value_name").isidentifier():
+        raise ValueError(f"value_name must be a plain name for {holder}, not {value_name!r}")
+
+
 def save_ply(
     path: str | os.PathLike[str],
     mesh: Mesh,
@@ -86,11 +96,11 @@ def save_ply(
     with list uchar int vertex_indices (the mesh's triangles). Raises ValueError if `values` does not have
     one number per vertex, naming both lengths.
     """
+    file_name = _inputs.path(path)
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
-    if not value_name.isidentifier():
-        raise ValueError(f"value_name must be a plain name for a PLY property, not {value_name!r}")
-    colours = vertex_colours(field, cmap, vmin, vmax)
+    _check_value_name(value_name, "a PLY property")
+    colours = vertex_colours(field, cmap, _inputs.optional_real(vmin, "vmin"), _inputs.optional_real(vmax, "vmax"))
     vertex = np.empty(
         surface.vertex_count,
         dtype=[(c, "<f4") for c in "xyz"] + [("value", "<f8")] + [(c, "u1") for c in ("red", "green", "blue")],
@@ -109,7 +119,7 @@ def save_ply(
         "property uchar red\nproperty uchar green\nproperty uchar blue\n"
         f"element face {surface.face_count}\nproperty list uchar int vertex_indices\nend_header\n"
     )
-    with open(path, "wb") as file:
+    with open(file_name, "wb") as file:
         file.write(header.encode("ascii"))
         file.write(vertex.tobytes())
         file.write(face.tobytes())
@@ -129,10 +139,10 @@ def save_vtk(
     has them; a newline follows each block of them. Raises ValueError if `values` does not have one number per
     vertex, naming both lengths.
     """
+    file_name = _inputs.path(path)
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
-    if not value_name.isidentifier():
-        raise ValueError(f"value_name must be a plain name for a VTK array, not {value_name!r}")
+    _check_value_name(value_name, "a VTK array")
     polygons = np.empty((surface.face_count, 4), dtype=">i4")
     polygons[:, 0] = 3
     polygons[:, 1:] = surface.faces
@@ -146,7 +156,7 @@ def save_vtk(
         field.astype(">f8").tobytes(),
         b"\n",
     ]
-    with open(path, "wb") as file:
+    with open(file_name, "wb") as file:
         file.writelines(blocks)
 
 
@@ -189,14 +199,22 @@ def plot(
         raise ImportError("exactgeo.plot needs matplotlib (its plot extra): pip install matplotlib") from None
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
-    low, high = _limits(field, vmin, vmax)
-    if up not in _UP:
+    low, high = _limits(field, _inputs.optional_real(vmin, "vmin"), _inputs.optional_real(vmax, "vmax"))
+    if _inputs.text(up, "up") not in _UP:
         raise ValueError(f"up must be 'x', 'y' or 'z', not {up!r}")
+    elevation_degrees, azimuth_degrees = _inputs.reals(view, "view", size=2)
+    size_inches = tuple(_inputs.reals(figsize, "figsize", size=2))
+    dots = _inputs.count(dpi, "dpi", minimum=1)
+    if title is not None:
+        _inputs.text(title, "title")
+    if file is not None and not hasattr(file, "write"):  # a file object, or a name
+        file = os.fsdecode(_inputs.path(file, "file"))
+    path_points = None if path is None else _inputs.real_array(getattr(path, "points", path), "path", columns=3)
     axes_order = _UP[up]
     positions, faces = surface.vertices[:, axes_order], surface.faces.astype(np.int64)
     triangles = positions[faces]  # (m, 3, 3)
 
-    elevation, azimuth = np.radians(view[0]), np.radians(view[1])
+    elevation, azimuth = np.radians(elevation_degrees), np.radians(azimuth_degrees)
     eye = np.array([np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth), np.sin(elevation)])
     light = eye + np.array([-np.sin(azimuth), np.cos(azimuth), 0.0]) * -0.4 + np.array([0, 0, 0.5])
     light /= np.linalg.norm(light)
@@ -222,15 +240,13 @@ def plot(
         for line in curves:
             pieces.append(_as_thin_triangles(line[:, axes_order] + edge * eye))
             colours.append(np.tile([0.0, 0.0, 0.0, 1.0], (len(line) - 1, 1)))
-    if path is not None:
-        line = np.asarray(getattr(path, "points", path), dtype=np.float64).reshape(-1, 3)[:, axes_order]
-        if len(line) >= 2:
-            pieces.append(_as_thin_triangles(line + edge * eye))
-            colours.append(np.tile([0.85, 0.1, 0.1, 1.0], (len(line) - 1, 1)))
+    if path_points is not None and len(path_points) >= 2:
+        pieces.append(_as_thin_triangles(path_points[:, axes_order] + edge * eye))
+        colours.append(np.tile([0.85, 0.1, 0.1, 1.0], (len(path_points) - 1, 1)))
     items, item_colours = np.concatenate(pieces), np.concatenate(colours)
     edge_colours = item_colours.copy()
 
-    figure = Figure(figsize=figsize, dpi=dpi)
+    figure = Figure(figsize=size_inches, dpi=dots)
     # Orthographic, as the shading above assumes: one viewing direction for every face.
     axes = figure.add_subplot(projection="3d", proj_type="ortho")
     collection = Poly3DCollection(items, facecolors=item_colours, edgecolors=edge_colours, linewidths=0.7)
@@ -242,7 +258,7 @@ def plot(
     axes.set_xlim(middle[0] - size[0] / 2, middle[0] + size[0] / 2)
     axes.set_ylim(middle[1] - size[1] / 2, middle[1] + size[1] / 2)
     axes.set_zlim(middle[2] - size[2] / 2, middle[2] + size[2] / 2)
-    axes.view_init(elev=view[0], azim=view[1])
+    axes.view_init(elev=elevation_degrees, azim=azimuth_degrees)
     axes.set_axis_off()
     mappable = ScalarMappable(norm=Normalize(low, high), cmap=_mpl_cmap(cmap))
     figure.colorbar(mappable, ax=axes, shrink=0.7, pad=0.02)
@@ -250,7 +266,7 @@ def plot(
     if title:
         axes.set_title(title)
     if file is not None:
-        figure.savefig(file, dpi=dpi, bbox_inches="tight")
+        figure.savefig(file, dpi=dots, bbox_inches="tight")
     return figure
 
 
@@ -296,7 +312,7 @@ def _levels(isolines: int | Sequence[float] | None, low: float, high: float) -> 
         if isolines < 0:
             raise ValueError(f"isolines must be a number of levels (at least 0) or the levels, not {isolines}")
         return np.linspace(low, high, int(isolines) + 2)[1:-1]
-    return np.atleast_1d(np.asarray(isolines, dtype=np.float64))
+    return _inputs.reals(isolines, "isolines")
 
 
 def _as_thin_triangles(line: np.ndarray) -> np.ndarray:

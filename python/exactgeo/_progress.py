@@ -13,6 +13,13 @@ Result = TypeVar("Result")
 Progress = Union[bool, None, ProgressCallback]
 
 
+def checked(progress: object) -> Progress:
+    """`progress` itself if it is one of the forms it takes; a TypeError saying them otherwise."""
+    if progress is True or progress is None or progress is False or callable(progress):
+        return progress  # type: ignore[return-value]
+    raise TypeError(f"progress must be True, False, None or a function (done, total), not {progress!r}")
+
+
 class Reporter:
     """What the core calls: (done, total) -> None."""
 
@@ -20,7 +27,7 @@ class Reporter:
         self._bar = None
         self._callback: Optional[ProgressCallback] = None
         self._last = (0, 0)
-        if progress is True:
+        if checked(progress) is True:
             try:
                 import tqdm
             except ImportError:
@@ -28,8 +35,6 @@ class Reporter:
             self._bar = tqdm.tqdm(desc=description, total=0)
         elif callable(progress):
             self._callback = progress
-        elif progress not in (None, False):
-            raise TypeError(f"progress must be True, False, None or a function (done, total), not {progress!r}")
 
     @property
     def active(self) -> bool:

@@ -27,7 +27,9 @@ def make_bumpy_torus(major_segments: int, minor_segments: int) -> tuple[np.ndarr
 def make_grid(nx: int, ny: int, width: float, height: float) -> tuple[np.ndarray, np.ndarray]:
     """Flat nx-by-ny grid of squares on [0, width] x [0, height] at z = 0, two triangles per square along
     alternating diagonals; vertex (i, j) is number j * (nx + 1) + i."""
-    return _core.make_grid(_inputs.c_int(nx, "nx"), _inputs.c_int(ny, "ny"), width, height)
+    return _core.make_grid(
+        _inputs.c_int(nx, "nx"), _inputs.c_int(ny, "ny"), _inputs.real(width, "width"), _inputs.real(height, "height")
+    )
 
 
 def subdivide_midpoint(vertices: object, faces: object) -> tuple[np.ndarray, np.ndarray]:

@@ -29,7 +29,9 @@ class SurfacePoint:
         try:
             face = operator.index(self.face)
         except TypeError:
-            raise TypeError(f"SurfacePoint: face must be an integer face index, not {self.face!r}") from None
+            face = None
+        if face is None or isinstance(self.face, (bool, np.bool_)):
+            raise TypeError(f"SurfacePoint: face must be an integer face index, not {self.face!r}")
         if not 0 <= face < _inputs.INDEX_LIMIT:
             raise ValueError(f"SurfacePoint: face {face} is not a face index")
         try:
@@ -70,6 +72,8 @@ class SurfacePoints:
     @classmethod
     def of(cls, points: Sequence[SurfacePoint]) -> SurfacePoints:
         """The same points as one SurfacePoints."""
+        if not isinstance(points, Sequence) or not all(isinstance(p, SurfacePoint) for p in points):
+            raise TypeError(f"points must be a sequence of SurfacePoint, not {_points_text(points)}")
         return cls(
             np.fromiter((p.face for p in points), dtype=np.uint32, count=len(points)),
             np.array([p.barycentric for p in points], dtype=np.float64).reshape(-1, 3),
@@ -117,6 +121,13 @@ def target_points(targets: Any, mesh: Mesh) -> SurfacePoints:
     return _as_surface_points(targets)
 
 
+def _points_text(points: Any) -> str:
+    """What was given instead of points, for a message: a type, or the types a sequence holds."""
+    if isinstance(points, Sequence) and not isinstance(points, str):
+        return "a sequence holding " + ", ".join(sorted({type(p).__name__ for p in points}))
+    return type(points).__name__
+
+
 def holds_points(sites: Any) -> bool:
     """Whether `sites` are surface points (a SurfacePoint, SurfacePoints, or a sequence with a SurfacePoint)."""
     return isinstance(sites, (SurfacePoint, SurfacePoints)) or (
@@ -140,7 +151,7 @@ def _vertex_target(mesh: Mesh, index: int, vertex: int) -> SurfacePoint:
 def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
     """The point at input vertex `vertex`: as a source or target, the vertex itself (every surface copy of it)."""
     mesh = checked_mesh(mesh)
-    vertices = _inputs.vertex_array(vertex, mesh.vertex_count, "vertex", lambda i: "vertex")
+    vertices = np.array([_inputs.vertex_index(vertex, mesh.vertex_count, "vertex", "vertex")], dtype=np.uint32)
     faces, barycentric = _core.vertex_points(mesh._core, vertices, "")
     return SurfacePoint(int(faces[0]), tuple(barycentric[0]))
 
@@ -148,16 +159,19 @@ def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
 def edge_point(mesh: Mesh, from_vertex: int, to_vertex: int, t: float) -> SurfacePoint:
     """The point (1 - t) * from_vertex + t * to_vertex on their edge, t in [0, 1]."""
     mesh = checked_mesh(mesh)
-    ends = _inputs.vertex_array(
-        [from_vertex, to_vertex], mesh.vertex_count, "edge", lambda i: f"edge ({from_vertex}, {to_vertex}): vertex"
-    )
-    face, (b0, b1, b2) = _core.edge_point(mesh._core, int(ends[0]), int(ends[1]), float(t))
+    ends = [
+        _inputs.vertex_index(vertex, mesh.vertex_count, what, f"edge ({from_vertex}, {to_vertex}): vertex")
+        for vertex, what in ((from_vertex, "from_vertex"), (to_vertex, "to_vertex"))
+    ]
+    face, (b0, b1, b2) = _core.edge_point(mesh._core, *ends, _inputs.real(t, "t"))
     return SurfacePoint(face, (b0, b1, b2))
 
 
 def point_position(mesh: Mesh, points: SurfacePoint | SurfacePoints) -> np.ndarray:
     """Where points lie in space: (3,) for one SurfacePoint, (n, 3) for SurfacePoints."""
     mesh = checked_mesh(mesh)
+    if not isinstance(points, (SurfacePoint, SurfacePoints)):
+        raise TypeError(f"points must be a SurfacePoint or SurfacePoints, not {type(points).__name__}")
     many = _as_surface_points(points)
     positions = _core.point_positions(mesh._core, many.faces, many.barycentric)
     return positions if isinstance(points, SurfacePoints) else positions[0]

@@ -25,12 +25,15 @@ a cluster):
                                     row pointers from 0; written in a hidden folder beside it, then renamed
     STORE/done/block_000012         a Zarr group with no arrays, made once block 12's data is complete: its
                                     metadata file (zarr.json) is renamed into place last and is the marker;
-                                    its attributes hold the block's rows and the sha256 of the bytes written
+                                    its attributes hold the block's rows, its max_distance and the sha256 of
+                                    the bytes written
 
-A block counts as done only through its marker, written after its data: an interrupted or killed run leaves
-at most blocks without markers, which the next run with resume=True computes again, replacing whatever data
-they left (a block being written again loses its marker first). verify=True (and `exactgeo matrix --verify`)
-checks the done blocks' data against the sha256 their markers recorded.
+Every array is uncompressed. A block counts as done only through its marker, written after its data: an
+interrupted or killed run leaves at most blocks without markers, which the next run with resume=True computes
+again, replacing whatever data they left (a block being written again loses its marker first). verify=True
+(and `exactgeo matrix --verify`) checks the done blocks' data against the sha256 their markers recorded, and
+the source, target and mesh arrays against the settings; a run with verify=True computes those blocks and
+writes those arrays again.
 
 The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
 v3), so either can continue a store the other began. The store is built in a hidden folder beside its place and
@@ -42,6 +45,7 @@ from __future__ import annotations
 import concurrent.futures
 import dataclasses
 import errno
+import functools
 import hashlib
 import json
 import math
@@ -56,7 +60,7 @@ import numpy as np
 
 from . import _inputs
 from ._mesh import Mesh, checked_mesh
-from ._progress import Progress, Reporter
+from ._progress import Progress, Reporter, checked as checked_progress
 
 FORMAT = "exactgeo-distance-matrix/1"
 DTYPES = ("float32", "float64")
@@ -94,10 +98,13 @@ class StoreStatus:
     done: tuple[int, ...]
     missing: tuple[int, ...]  # corrupt blocks included
     corrupt: tuple[int, ...] = ()  # with verify=True: marked done, but their data is not what the marker says
+    # With verify=True: why the arrays every block shares (source, target, mesh/) do not hold what the store's
+    # settings record, naming the files; a run with verify=True writes them again.
+    damaged: tuple[str, ...] = ()
 
     @property
     def complete(self) -> bool:
-        return not self.missing
+        return not self.missing and not self.damaged
 
     def rows(self, block: int) -> range:
         """The matrix rows of `block`."""
@@ -127,18 +134,21 @@ def _open_array(path: Path, mode: str = "r") -> Any:
     return _zarr().open_array(store=str(path), mode=mode)
 
 
-def _new_array(group: Any, name: str, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any,
-               fill_value: Any, dimensions: Sequence[str], compressed: bool = True) -> Any:
-    """An array in `group` (replacing one of that name), with dimension names as xarray reads them.
-    `compressed=False` stores the chunks as raw little-endian bytes."""
+# Every array is stored uncompressed, its chunks raw little-endian bytes: the command (cli/zarr_store.cpp) writes
+# blocks into `distances` and reads every array back to verify it.
+
+
+def _new_array(store: Path, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any, fill_value: Any,
+               dimensions: Sequence[str]) -> Any:
+    """An array at `store` (replacing one there), with dimension names as xarray reads them."""
     chunks = tuple(max(1, c) for c in chunks)
-    codecs = {} if compressed else {"compressors": None}
-    return group.create_array(name, shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
-                              dimension_names=list(dimensions), overwrite=True, **codecs)
+    return _zarr().create_array(store=str(store), shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
+                                dimension_names=list(dimensions), compressors=None, overwrite=True)
 
 
-def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[str], compressed: bool = True) -> None:
-    array = _new_array(group, name, values.shape, values.shape, values.dtype, 0, dimensions, compressed)
+def _array_of(store: Path, values: np.ndarray, dimensions: Sequence[str]) -> None:
+    """`values` as an array at `store` in one chunk."""
+    array = _new_array(store, values.shape, values.shape, values.dtype, 0, dimensions)
     if values.size:
         array[...] = values
 
@@ -149,12 +159,18 @@ def _array_of(group: Any, name: str, values: np.ndarray, dimensions: Sequence[st
 def mesh_hash(mesh: Mesh) -> str:
     """sha256 (hex) of the mesh's input: vertex and face counts, welding, vertices as float64 and faces as
     uint32, in C order. Equal meshes have equal hashes; stores record it."""
+    mesh = checked_mesh(mesh)
+    return _mesh_digest(mesh.vertices, mesh.faces, mesh._weld)
+
+
+def _mesh_digest(vertices: np.ndarray, faces: np.ndarray, weld: bool) -> str:
+    """mesh_hash of a mesh given as its arrays, as a store keeps them."""
     digest = hashlib.sha256(b"exactgeo-mesh/1")
-    vertices = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
-    faces = np.ascontiguousarray(mesh.faces, dtype=np.uint32)
-    digest.update(np.array([len(vertices), len(faces), int(mesh._weld)], dtype="<i8").tobytes())
-    digest.update(vertices.astype("<f8", copy=False).tobytes())
-    digest.update(faces.astype("<u4", copy=False).tobytes())
+    vertices = np.ascontiguousarray(vertices, dtype="<f8")
+    faces = np.ascontiguousarray(faces, dtype="<u4")
+    digest.update(np.array([len(vertices), len(faces), int(weld)], dtype="<i8").tobytes())
+    digest.update(vertices.tobytes())
+    digest.update(faces.tobytes())
     return digest.hexdigest()
 
 
@@ -218,13 +234,17 @@ def _remove_marker(path: Path, block: int) -> None:
         pass
 
 
+def _write_group(folder: Path, attributes: dict) -> None:
+    """A Zarr group at `folder` whose attributes are `attributes`: its metadata file written whole."""
+    folder.mkdir(parents=True, exist_ok=True)
+    _write_atomically(folder / "zarr.json", json.dumps(
+        {"zarr_format": ZARR_FORMAT, "node_type": "group", "attributes": attributes}))
+
+
 def _write_marker(path: Path, block: int, record: dict) -> None:
     """done/block_NNNNNN: a Zarr group whose attributes are `record`; its metadata file, renamed into place
     after the block's data is written, is the marker."""
-    folder = path / "done" / _block_name(block)
-    folder.mkdir(parents=True, exist_ok=True)
-    _write_atomically(folder / "zarr.json", json.dumps(
-        {"zarr_format": ZARR_FORMAT, "node_type": "group", "attributes": record}))
+    _write_group(path / "done" / _block_name(block), record)
 
 
 def _done_blocks(path: Path, blocks: int) -> list[int]:
@@ -263,13 +283,18 @@ def _stored_settings(path: Path) -> Optional[dict]:
                          "(nothing was changed)")
     # The counts are checked against each other, so that an edited block count cannot hide blocks.
     try:
-        rows, _ = settings["shape"]
-        agree = len(settings["sources"]) == rows and settings["blocks"] == math.ceil(rows / settings["block_rows"])
+        rows, columns = settings["shape"]
+        targets = settings["targets"]
+        agree = len(settings["sources"]) == rows and settings["blocks"] == math.ceil(rows / settings["block_rows"]) \
+            and columns == (settings["vertex_count"] if targets is None else len(targets))
     except (KeyError, TypeError, ValueError, ZeroDivisionError):
         agree = False
     if not agree:
-        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's shape, sources, blocks and block_rows do "
-                         "not agree")
+        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's shape, sources, targets, blocks and "
+                         "block_rows do not agree")
+    if settings.get("layout") != ("dense" if settings.get("max_distance") is None else "sparse"):
+        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's layout {settings.get('layout')!r} does not "
+                         f"go with its max_distance {settings.get('max_distance')!r}")
     return settings
 
 
@@ -282,7 +307,8 @@ def _describe(values: Optional[list], noun: str) -> str:
 
 def _differences(stored: dict, wanted: dict, explicit_block_rows: bool) -> list[str]:
     found = []
-    if stored["mesh_sha256"] != wanted["mesh_sha256"]:
+    if any(stored[key] != wanted[key] for key in ("mesh_sha256", "vertex_count", "face_count",
+                                                  "weld_duplicate_positions")):
         found.append(f"another mesh (the store's: {stored['vertex_count']} vertices, {stored['face_count']} faces, "
                      f"sha256 {stored['mesh_sha256'][:12]}...; this one: {wanted['vertex_count']} vertices, "
                      f"{wanted['face_count']} faces, sha256 {wanted['mesh_sha256'][:12]}...)")
@@ -304,36 +330,130 @@ def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, t
     root = _open_group(path, "w")
     rows, width = settings["shape"]
     if settings["max_distance"] is None:
-        # Uncompressed, so that `exactgeo matrix --shard` jobs (cli/zarr_store.cpp) can write blocks into it too.
-        _new_array(root, "distances", (rows, width), (settings["block_rows"], width), settings["dtype"], float("nan"),
-                   ("source", "target"), compressed=False)
+        _new_array(path / "distances", (rows, width), (settings["block_rows"], width), settings["dtype"], float("nan"),
+                   ("source", "target"))
     else:
         root.create_group("csr")
-    _array_of(root, "source", sources.astype(np.int64), ("source",))
-    _array_of(root, "target", (np.arange(width) if targets is None else targets).astype(np.int64), ("target",))
-    meshes = root.create_group("mesh")
-    _array_of(meshes, "vertices", np.array(mesh.vertices, dtype=np.float64), ("vertex", "xyz"))
-    _array_of(meshes, "faces", np.array(mesh.faces, dtype=np.uint32), ("face", "corner"))
+    _write_shared_arrays(path, mesh, sources, targets)
     root.create_group("done")
     root.attrs["exactgeo"] = settings
 
 
-def _check_chunk_layout(path: Path) -> None:
-    """Blocks write their chunk files themselves (_write_chunk): `distances` must store them as raw little-endian
-    bytes under the default keys, as this module and the command make it. ValueError naming the codecs otherwise."""
+def _write_shared_arrays(path: Path, mesh: Mesh, sources: np.ndarray, targets: Optional[np.ndarray]) -> None:
+    """The arrays every block shares (the rows' and columns' vertices, the mesh), each built beside its place and
+    renamed into it, so that one written again while other workers read it appears whole."""
+    arrays = {
+        "source": (sources.astype(np.int64), ("source",)),
+        "target": ((np.arange(mesh.vertex_count) if targets is None else targets).astype(np.int64), ("target",)),
+        "mesh/vertices": (np.array(mesh.vertices, dtype=np.float64), ("vertex", "xyz")),
+        "mesh/faces": (np.array(mesh.faces, dtype=np.uint32), ("face", "corner")),
+    }
+    _write_group(path / "mesh", {})
+    for name, (values, dimensions) in arrays.items():
+        _build_folder_into_place(path / name, functools.partial(_array_of, values=values, dimensions=dimensions),
+                                 replace=True)
+
+
+def _damaged_shared_arrays(path: Path, settings: dict) -> tuple[str, ...]:
+    """Why the arrays every block shares do not hold what `settings` record (one reason per array, naming its
+    file): `source` and `target` the sources and targets (every vertex without targets), mesh/vertices and
+    mesh/faces the mesh whose sha256 they record."""
+    targets = settings["targets"] if settings["targets"] is not None else np.arange(settings["vertex_count"])
+    damaged = []
+    for name, expected in (("source", settings["sources"]), ("target", targets)):
+        try:
+            if not np.array_equal(_whole_array(path / name, "int64", 1), np.asarray(expected, dtype=np.int64)):
+                damaged.append(f"{path / name} does not hold the {name}s its store's zarr.json records")
+        except ValueError as error:
+            damaged.append(str(error))
     try:
-        with open(path / "distances" / "zarr.json") as file:
-            metadata = json.load(file)
+        group = _read_json(path / "mesh" / "zarr.json")
+        if group.get("zarr_format") != ZARR_FORMAT or group.get("node_type") != "group":
+            raise ValueError(f"{path / 'mesh' / 'zarr.json'} is not the metadata of a Zarr format 3 group")
+        vertices = _whole_array(path / "mesh" / "vertices", "float64", 2)
+        faces = _whole_array(path / "mesh" / "faces", "uint32", 2)
+    except ValueError as error:
+        return (*damaged, str(error))
+    if vertices.shape != (settings["vertex_count"], 3) or faces.shape != (settings["face_count"], 3) or \
+            _mesh_digest(vertices, faces, settings["weld_duplicate_positions"]) != settings["mesh_sha256"]:
+        damaged.append(f"{path / 'mesh'} does not hold the mesh whose sha256 its store's zarr.json records")
+    return tuple(damaged)
+
+
+# Verification reads what was written as the bytes it is, without zarr: the metadata must be the layout this module
+# and the command write (uncompressed; a small array in one chunk, the dense matrix in one chunk per block), so that
+# both verifiers hash the same bytes, and a store of many blocks is read at the speed of its files.
+
+_RAW_CODECS = [{"name": "bytes", "configuration": {"endian": "little"}}]
+
+
+def _read_json(path: Path) -> dict:
+    """The JSON object in `path`; ValueError naming the file otherwise."""
+    try:
+        with open(path, "rb") as file:
+            document = json.load(file)
     except (OSError, ValueError) as error:
-        raise ValueError(f"{path / 'distances' / 'zarr.json'} cannot be read: {error}") from None
+        raise ValueError(f"{path} cannot be read: {error}") from None
+    if not isinstance(document, dict):
+        raise ValueError(f"{path} holds a JSON {type(document).__name__}, not an object")
+    return document
+
+
+def _check_layout(folder: Path, shape: Sequence[int], chunks: Sequence[int], data_type: str, fill_value: Any) -> None:
+    """ValueError naming the first thing in the array metadata of `folder` that is not what an uncompressed array of
+    this shape, chunks, data type and fill value has."""
+    metadata_path = folder / "zarr.json"
+    metadata = _read_json(metadata_path)
     codecs = metadata.get("codecs")
-    keys = metadata.get("chunk_key_encoding")
-    if codecs != [{"name": "bytes", "configuration": {"endian": "little"}}] or \
-            keys != {"name": "default", "configuration": {"separator": "/"}}:
+    if codecs != _RAW_CODECS:
         names = ", ".join(str(codec.get("name")) for codec in codecs or [] if isinstance(codec, dict))
-        raise ValueError(f"{path / 'distances'} stores its chunks with codecs [{names}] and chunk keys {keys}; blocks "
-                         "are written uncompressed (codecs [bytes], little-endian) under the default keys: choose "
-                         "another store, or resume=False to replace this one")
+        raise ValueError(f"{folder} stores its chunks with codecs [{names}]; blocks are written and read "
+                         "uncompressed (codecs [bytes], little-endian)")
+    expected = {"zarr_format": ZARR_FORMAT, "node_type": "array", "shape": list(shape), "data_type": data_type,
+                "chunk_grid": {"name": "regular", "configuration": {"chunk_shape": list(chunks)}},
+                "chunk_key_encoding": {"name": "default", "configuration": {"separator": "/"}},
+                "fill_value": fill_value}
+    for key, value in expected.items():
+        if metadata.get(key) != value:
+            raise ValueError(f"{metadata_path}: its {key} is {metadata.get(key)!r}, not {value!r}")
+
+
+def _whole_array(folder: Path, data_type: str, rank: int) -> np.ndarray:
+    """The array in `folder` of `data_type` and `rank` dimensions, stored in one chunk as _array_of (and the
+    command) write it, whatever its shape; ValueError naming the file otherwise. Zarr leaves out a chunk holding
+    the fill value (0) alone: an absent chunk reads as zeros."""
+    shape = _read_json(folder / "zarr.json").get("shape")
+    if not isinstance(shape, list) or len(shape) != rank or \
+            not all(isinstance(size, int) and not isinstance(size, bool) and size >= 0 for size in shape):
+        raise ValueError(f"{folder / 'zarr.json'}: its shape is {shape!r}, not {rank} sizes")
+    _check_layout(folder, shape, [max(1, size) for size in shape], data_type, 0)
+    dtype = np.dtype(data_type).newbyteorder("<")
+    chunk = folder / "c" / Path(*["0"] * rank)
+    if not chunk.exists():
+        return np.zeros(shape, dtype=dtype)
+    data = _read_bytes(chunk)
+    if len(data) != dtype.itemsize * math.prod(shape):
+        raise ValueError(f"{chunk} has {len(data)} bytes, not {dtype.itemsize * math.prod(shape)}")
+    return np.frombuffer(data, dtype=dtype).reshape(shape)
+
+
+def _read_bytes(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError as error:
+        raise ValueError(f"{path} cannot be read: {error}") from None
+
+
+def _check_chunk_layout(path: Path, settings: dict) -> None:
+    """Blocks write their chunk files themselves (_write_chunk) and verification reads them so: `distances` must be
+    the array this module and the command make, (sources, targets) of the settings' dtype in chunks of block_rows
+    rows, NaN where no block was written, uncompressed. ValueError naming what differs otherwise."""
+    rows, width = settings["shape"]
+    try:
+        _check_layout(path / "distances", (rows, width), (settings["block_rows"], max(1, width)), settings["dtype"],
+                      "NaN")
+    except ValueError as error:
+        raise ValueError(f"{error}: choose another store, or resume=False to replace this one") from None
 
 
 def _default_block_rows(rows: int, width: int, itemsize: int) -> int:
@@ -404,7 +524,7 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
     dtype = np.dtype(options["dtype"])
     max_distance = options["max_distance"]
     digest = hashlib.sha256()
-    record: dict[str, Any] = {"block": block, "rows": list(rows)}
+    record: dict[str, Any] = {"block": block, "rows": list(rows), "max_distance": max_distance}
     if max_distance is None:
         # The block's chunk is the only copy of its rows: computed into it a few rows at a time (float32 rounded
         # from each float64 distance as it comes), then written from its own memory. The last block's chunk is
@@ -427,10 +547,9 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
             digest.update(values)
 
         def build(folder: Path) -> None:
-            group = _open_group(folder, "w")
+            _open_group(folder, "w")
             for name, values in pieces.items():
-                # Uncompressed, as the command writes them, so that `exactgeo matrix --verify` reads them back.
-                _array_of(group, name, values, (name,), compressed=False)
+                _array_of(folder / name, values, (name,))
 
         # Built whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete. Pieces
         # already there (an earlier attempt stopped before its marker, or pieces that failed verification) are
@@ -455,10 +574,25 @@ def _write_chunk(path: Path, block: int, chunk: np.ndarray) -> None:
 
 
 def _vertices(values: object, mesh: Mesh, what: str) -> np.ndarray:
-    array = _inputs.vertex_array(values, mesh.vertex_count, what, lambda i: "vertex").astype(np.int64)
+    array = _inputs.vertex_array(values, mesh.vertex_count, what, lambda i: f"{what}: vertex").astype(np.int64)
     if array.size and array.max() >= mesh.vertex_count:
         raise ValueError(f"{what}: vertex {int(array.max())} is out of range (mesh has {mesh.vertex_count} vertices)")
     return array
+
+
+def _dtype_name(dtype: object) -> str:
+    """"float32" or "float64", from their names or numpy's types; ValueError naming what was given otherwise."""
+    try:
+        name = str(np.dtype(dtype)) if dtype is not None else None
+    except TypeError:
+        name = None
+    if name not in DTYPES:
+        raise ValueError(f"dtype must be float32 or float64, not {dtype!r}")
+    return name
+
+
+def _store_path(store: object) -> Path:
+    return Path(os.fsdecode(_inputs.path(store, "store"))).absolute()
 
 
 def distance_matrix_to_zarr(
@@ -496,22 +630,26 @@ def distance_matrix_to_zarr(
     targets, dtype and max_distance (ValueError naming what differs otherwise) and computes the others;
     `resume=False` replaces an existing exactgeo store. A path holding anything else raises ValueError.
     `verify=True` reads the done blocks first and computes again those whose data does not match the sha256
-    their marker recorded. `progress`: True for a tqdm bar, or a function called with (rows done, rows).
+    their marker recorded, and writes the source, target and mesh arrays again if they do not hold what the
+    store's settings record. `progress`: True for a tqdm bar, or a function called with (rows done, rows).
     Returns a MatrixRun.
     """
     _zarr()
     mesh = checked_mesh(mesh)
     source_array = _vertices(sources, mesh, "sources")
     target_array = None if targets is None else _vertices(targets, mesh, "targets")
-    if str(np.dtype(dtype)) not in DTYPES:
-        raise ValueError(f"dtype must be float32 or float64, not {dtype!r}")
+    dtype = _dtype_name(dtype)
     cutoff = None if max_distance is None else _inputs.cutoff(max_distance)
     if cutoff is not None and not (0 <= cutoff < math.inf):
         raise ValueError(f"max_distance must be a finite number of at least 0, not {max_distance!r}")
     threads = _inputs.count(threads, "threads")
     retries = _inputs.count(retries, "retries")
+    resume = _inputs.flag(resume, "resume")
+    verify = _inputs.flag(verify, "verify")
+    progress = checked_progress(progress)
+    _check_client(client)
     width = mesh.vertex_count if target_array is None else len(target_array)
-    path = Path(os.fspath(store)).absolute()
+    path = _store_path(store)
     stored = _stored_settings(path)
     if block_rows is None:
         rows_per_block = stored["block_rows"] if stored and resume else _default_block_rows(
@@ -530,7 +668,7 @@ def distance_matrix_to_zarr(
         "sources": source_array.tolist(),
         "targets": None if target_array is None else target_array.tolist(),
         "shape": [len(source_array), width],
-        "dtype": str(np.dtype(dtype)),
+        "dtype": dtype,
         "max_distance": cutoff,
         "layout": "dense" if cutoff is None else "sparse",
         "block_rows": rows_per_block,
@@ -551,12 +689,14 @@ def distance_matrix_to_zarr(
             raise ValueError(f"the store {path} was made for " + "; ".join(differences) +
                              ". Use another store, or resume=False to replace this one.")
         if cutoff is None:
-            _check_chunk_layout(path)
+            _check_chunk_layout(path, stored)
     blocks = settings["blocks"]
     for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
         shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
     done = _done_blocks(path, blocks)
     if verify:
+        if stored is not None and _damaged_shared_arrays(path, stored):
+            _write_shared_arrays(path, mesh, source_array, target_array)  # the mesh and axes the settings record
         for block in [b for b in done if not _block_intact(path, settings, b)]:
             _remove_marker(path, block)  # computed again below
             done.remove(block)
@@ -637,6 +777,18 @@ def local_cluster(workers: Optional[int] = None) -> Any:
                             config=_UNHURRIED_HOUSEKEEPING)
 
 
+def _is_dask_client(client: Any) -> bool:
+    client_type = _dask_client_type()
+    return client_type is not None and isinstance(client, client_type)
+
+
+def _check_client(client: Any) -> None:
+    """Before the store is touched: a client that cannot run the blocks leaves it as it was."""
+    if client is not None and not _is_dask_client(client) and not isinstance(client, concurrent.futures.Executor):
+        raise TypeError(f"client must be None, a dask.distributed Client or a concurrent.futures.Executor, "
+                        f"not {type(client).__name__}")
+
+
 def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference, retries: int, finished) -> None:
     if client is None:
         try:
@@ -645,15 +797,10 @@ def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference
             raise ImportError(_MISSING_EXTRA) from None
         with local_cluster() as cluster, Client(cluster) as own:
             _run_dask(own, tasks, context, retries, finished)
-        return
-    client_type = _dask_client_type()
-    if client_type is not None and isinstance(client, client_type):
+    elif _is_dask_client(client):
         _run_dask(client, tasks, context, retries, finished)
-    elif isinstance(client, concurrent.futures.Executor):
-        _run_executor(client, tasks, reference, retries, finished)
     else:
-        raise TypeError(f"client must be None, a dask.distributed Client or a concurrent.futures.Executor, "
-                        f"not {type(client).__name__}")
+        _run_executor(client, tasks, reference, retries, finished)
 
 
 def _run_dask(client: Any, tasks: dict, context: _Context, retries: int, finished) -> None:
@@ -704,18 +851,24 @@ def _run_executor(executor: concurrent.futures.Executor, tasks: dict, reference:
 def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
     """Which blocks of the store are done and which are missing (a run with resume=True computes those).
     `verify=True` also reads each done block's data and checks it against the sha256 its marker recorded:
-    blocks that differ are `corrupt` and counted as missing (a run with verify=True computes them again).
-    ValueError if `store` is not an exactgeo distance matrix store."""
-    path = Path(os.fspath(store)).absolute()
+    blocks that differ are `corrupt` and counted as missing (a run with verify=True computes them again); and
+    the source, target and mesh arrays against the settings: those that differ are `damaged` (a run with
+    verify=True writes them again). ValueError if `store` is not an exactgeo distance matrix store, or
+    (verifying) if its distances array is not stored as blocks are written."""
+    path = _store_path(store)
+    verify = _inputs.flag(verify, "verify")
     settings = _stored_settings(path)
     if settings is None:
         raise ValueError(f"{path} holds no exactgeo distance matrix store")
+    if verify and settings["max_distance"] is None:
+        _check_chunk_layout(path, settings)
     done = _done_blocks(path, settings["blocks"])
     corrupt = tuple(b for b in done if not _block_intact(path, settings, b)) if verify else ()
+    damaged = _damaged_shared_arrays(path, settings) if verify else ()
     done = [b for b in done if b not in corrupt]
     missing = tuple(sorted(set(range(settings["blocks"])) - set(done)))
     return StoreStatus(str(path), settings["layout"], tuple(settings["shape"]), settings["dtype"],
-                       settings["block_rows"], settings["blocks"], tuple(done), missing, corrupt)
+                       settings["block_rows"], settings["blocks"], tuple(done), missing, corrupt, damaged)
 
 
 def _marker_record(path: Path, block: int) -> Optional[dict]:
@@ -727,23 +880,27 @@ def _marker_record(path: Path, block: int) -> Optional[dict]:
 
 
 def _block_intact(path: Path, settings: dict, block: int) -> bool:
-    """The block's data hashes to the sha256 its marker recorded."""
+    """The block's marker records its rows and the store's max_distance (which no other file repeats), and its data
+    hashes to the sha256 the marker recorded."""
     record = _marker_record(path, block)
-    if not isinstance(record, dict) or "sha256" not in record:
+    start = block * settings["block_rows"]
+    stop = min(start + settings["block_rows"], settings["shape"][0])
+    if not isinstance(record, dict) or "sha256" not in record or record.get("rows") != [start, stop] or \
+            record.get("max_distance", "none recorded") != settings["max_distance"]:
         return False
     digest = hashlib.sha256()
     try:
-        if settings["max_distance"] is None:
-            start, stop = record["rows"]
-            values = _open_array(path / "distances")[start:stop, :]
-            digest.update(np.ascontiguousarray(values, dtype=settings["dtype"]).tobytes())
+        if settings["max_distance"] is None:  # the layout was checked: the chunk is block_rows rows, raw
+            row_bytes = settings["shape"][1] * np.dtype(settings["dtype"]).itemsize
+            chunk = _read_bytes(path / "distances" / "c" / str(block) / "0")
+            if len(chunk) != settings["block_rows"] * row_bytes:
+                return False
+            digest.update(chunk[:(stop - start) * row_bytes])
         else:
             group = path / "csr" / _block_name(block)
-            for name, dtype in (("data", settings["dtype"]), ("indices", np.uint32), ("indptr", np.int64)):
-                array = _open_array(group / name)
-                values = array[...] if array.shape[0] else np.zeros(0, dtype=dtype)
-                digest.update(np.ascontiguousarray(values, dtype=dtype).tobytes())
-    except Exception:  # a chunk or piece that cannot be read is not intact either
+            for name, data_type in (("data", settings["dtype"]), ("indices", "uint32"), ("indptr", "int64")):
+                digest.update(_whole_array(group / name, data_type, 1).tobytes())
+    except ValueError:  # a chunk or piece that cannot be read as it was written is not intact either
         return False
     return digest.hexdigest() == record["sha256"]
 

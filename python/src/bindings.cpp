@@ -82,7 +82,14 @@ void bind_fields(nb::class_<Struct>& cls, ForEachField for_each_field) {
     const char* description = std::get<sizeof...(rest) - 1>(std::tuple(rest...));
     cls.def_rw(name, member, description);
   });
-  cls.def(nb::init<>());
+  // The library fills these in: arguments are refused in one line, not nanobind's list of signatures.
+  cls.def("__init__", [](Struct* self, const nb::args& args, const nb::kwargs& keywords) {
+    if (args.size() != 0 || keywords.size() != 0)
+      throw nb::type_error(("exactgeo." + nb::cast<std::string>(nb::type<Struct>().attr("__name__")) +
+                            "() takes no arguments: the library fills it in")
+                               .c_str());
+    new (self) Struct{};
+  });
   cls.def("to_dict", [for_each_field](const Struct& self) {
     nb::dict dict;
     for_each_field([&](const char* name, auto member, const auto&...) { dict[name] = self.*member; });

@@ -321,3 +321,24 @@ def test_verify_reports_a_chunk_corrupted_in_place_and_resume_repairs_it(cli, tm
     # --verify checks the done blocks of a store: with --status or --resume only.
     alone = cli_run(*command, "--verify")
     assert alone.returncode == 1 and "use it with --status or --resume" in alone.stderr
+
+
+def test_verify_reports_a_damaged_target_array_and_resume_writes_it_again(cli, tmp_path):
+    """Readers take each column's vertex from `target`: every block intact, the store is not complete with a
+    wrong one (issue 34's store fuzz found nothing checked it)."""
+    store = tmp_path / "m.zarr"
+    command = ["matrix", TORUS, "--sources", SOURCE_LIST, "--block-rows", 4, "--out", store]
+    run_cli(*command, "--quiet")
+    targets = store / "target" / "c" / "0"
+    columns = targets.read_bytes()
+    targets.write_bytes(columns[8:] + columns[:8])  # the columns' vertices rotated by one
+    shown = cli_run("matrix", "--status", store, "--verify")
+    assert shown.returncode == 4 and re.search(r"corrupt +0: none\n", shown.stdout)
+    assert re.search(r"damaged +1: target\n", shown.stdout)
+    assert re.search(rf"target +'{re.escape(str(store))}/target' does not hold the targets", shown.stdout)
+    status = distributed.store_status(store, verify=True)  # both verifiers agree
+    assert not status.complete and status.missing == () and len(status.damaged) == 1 and "target" in status.damaged[0]
+    repaired = cli_run(*command, "--resume", "--verify")
+    assert repaired.returncode == 0 and "/target' does not hold the targets" in repaired.stderr
+    assert targets.read_bytes() == columns and computed_blocks(repaired.stderr) == 0
+    assert distributed.store_status(store, verify=True).complete

@@ -362,10 +362,10 @@ def test_blocks_are_computed_into_their_chunk_rounded_once_to_float32(tmp_path):
 def test_an_interrupt_while_the_store_is_made_leaves_nothing_behind(tmp_path, monkeypatch):
     real = distributed._array_of
 
-    def interrupted_at_the_faces(group, name, values, dimensions):
-        if name == "faces":
+    def interrupted_at_the_faces(store, values, dimensions):
+        if dimensions == ("face", "corner"):
             raise KeyboardInterrupt
-        real(group, name, values, dimensions)
+        real(store, values, dimensions)
 
     monkeypatch.setattr(distributed, "_array_of", interrupted_at_the_faces)
     with ThreadPoolExecutor(1) as executor, pytest.raises(KeyboardInterrupt):

@@ -136,11 +136,11 @@ def test_from_any_takes_pairs_and_meshes_and_names_what_it_got():
     mesh = exactgeo.Mesh.from_any((vertices, faces))
     assert exactgeo.Mesh.from_any(mesh) is mesh
     assert exactgeo.Mesh.from_any(mesh, weld_duplicate_positions=True)._weld
-    with pytest.raises(TypeError, match=r"from dict: accepted are a trimesh.Trimesh, a meshio.Mesh"):
+    with pytest.raises(TypeError, match=r"mesh must be a trimesh.Trimesh, a meshio.Mesh, .* pair, not dict"):
         exactgeo.Mesh.from_any({"vertices": vertices})
-    with pytest.raises(TypeError, match=r"cannot make an exactgeo.Mesh from numpy.ndarray: accepted are .*pyvista"):
+    with pytest.raises(TypeError, match=r"mesh must be .*pyvista.* not numpy.ndarray"):
         exactgeo.Mesh.from_any(vertices)
-    with pytest.raises(TypeError, match=r"expected a trimesh.Trimesh .*got numpy.ndarray .*'faces'"):
+    with pytest.raises(TypeError, match=r"mesh must be a trimesh.Trimesh .*not numpy.ndarray .*'faces'"):
         exactgeo.Mesh.from_trimesh(vertices)
-    with pytest.raises(TypeError, match=r"expected an open3d.geometry.TriangleMesh"):
+    with pytest.raises(TypeError, match=r"mesh must be an open3d.geometry.TriangleMesh"):
         exactgeo.Mesh.from_open3d(SimpleNamespace(vertices=vertices))
