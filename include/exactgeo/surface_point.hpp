@@ -60,7 +60,7 @@ struct LocateResult {
 
 // The closest surface point of each 3D point `xyz` (x0 y0 z0 x1 ...), as a face and barycentric coordinates,
 // and its distance: what CGAL's locate with an AABB tree and trimesh.proximity.closest_point answer. The
-// first call on a mesh builds a bounding-volume hierarchy over its triangles (about 100 bytes per triangle),
+// first call on a mesh builds a bounding-volume hierarchy over its triangles (about 110 bytes per triangle),
 // which the mesh keeps for later calls, from any thread. Throws exactgeo::Error(invalid_argument) if the
 // array's size is not a multiple of 3, naming the first point with a non-finite coordinate, or naming the
 // first point farther from the surface than the largest double.
