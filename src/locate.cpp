@@ -18,13 +18,13 @@ namespace {
 constexpr std::size_t kPointsPerThread = 4096;
 constexpr std::size_t kGrain = 256;
 
-// How far from the mesh's centre, in half extents of the mesh, a point is searched from. A point farther away
-// is searched from this far along the same direction instead. Out there the closest point moves by about
-// extent^2 / distance as the point recedes, 2^-26 of the extent, while squared distances only tell points
-// of the surface apart to about 2^-52 * distance^2 / (2 * distance), 2^-26 of the extent again: beyond it,
-// rounding would pick the point ever more at random (from a trillion extents away, anywhere on the
-// surface), and farther still the squares would overflow.
-constexpr double kFarthestSearch = 0x1p26;
+// How far from the mesh's centre, in half extents of the mesh, a point is searched from; a point farther away
+// is searched from this far along the same direction. As a point recedes along a direction, its closest
+// point moves by about extent^2 / distance, here 2^-26 of the extent, while squared distances tell points of
+// the surface apart only to about 2^-53 of the distance, here 2^-27 of the extent: the two errors balance.
+// Farther out, rounding would pick the point ever less precisely (from 2^53 extents away, anywhere on the
+// surface), and then squares overflow.
+constexpr double kFarthestSearch = 0x1p27;
 
 // The point to search from, in the engine's frame (see kFarthestSearch), for a mesh whose box has this centre
 // and half extent there.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "exactgeo/exactgeo.hpp"
+#include "face_bvh.hpp"
 #include "test_meshes.hpp"
 
 namespace {
@@ -524,6 +525,26 @@ TEST(Locate, SameResultOnAnyThreadCount) {
   const LocateResult one = exactgeo::locate(Mesh(soup), xyz, {.threads = 1});
   expect_same(one, exactgeo::locate(Mesh(soup), xyz, {.threads = 3}));
   expect_same(one, exactgeo::locate(Mesh(soup), xyz, {.threads = 0}));
+}
+
+TEST(Locate, HierarchyIsTheSameOnAnyTeam) {
+  // Three threads and ranges of one item, whatever the cores and the mesh's size: the parallel build, which
+  // locate only uses on large meshes with cores to spare, gives the one-thread hierarchy bit for bit.
+  using exactgeo::detail::FaceBvh;
+  const Mesh mesh(exactgeo::make_bumpy_torus(60, 24));
+  exactgeo::detail::WorkerPool one(1), three(3);
+  const FaceBvh a = exactgeo::detail::build_face_bvh({one}, mesh.surface());
+  const FaceBvh b = exactgeo::detail::build_face_bvh({three, {}, 1}, mesh.surface());
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+    EXPECT_EQ(a.nodes[i].lo, b.nodes[i].lo) << "node " << i;
+    EXPECT_EQ(a.nodes[i].hi, b.nodes[i].hi) << "node " << i;
+    EXPECT_EQ(a.nodes[i].first, b.nodes[i].first) << "node " << i;
+    EXPECT_EQ(a.nodes[i].count, b.nodes[i].count) << "node " << i;
+  }
+  EXPECT_EQ(a.corners, b.corners);
+  EXPECT_EQ(a.input_faces, b.input_faces);
+  EXPECT_EQ(a.margin, b.margin);
 }
 
 TEST(Locate, ConcurrentFirstCallsShareOneHierarchy) {

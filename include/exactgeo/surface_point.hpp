@@ -61,9 +61,11 @@ struct LocateResult {
 // The closest surface point of each 3D point `xyz` (x0 y0 z0 x1 ...), as a face and barycentric coordinates,
 // and its distance: what CGAL's locate with an AABB tree and trimesh.proximity.closest_point answer. The
 // first call on a mesh builds a bounding-volume hierarchy over its triangles (about 110 bytes per triangle),
-// which the mesh keeps for later calls, from any thread. Throws exactgeo::Error(invalid_argument) if the
-// array's size is not a multiple of 3, naming the first point with a non-finite coordinate, or naming the
-// first point farther from the surface than the largest double.
+// which the mesh keeps for later calls, from any thread. A point more than 2^26 times the mesh's extent away
+// is searched from that far along its direction: its closest point is then right to about 1.5e-8 of the
+// extent, about as far as rounding tells its distances apart. Throws exactgeo::Error(invalid_argument) if
+// the array's size is not a multiple of 3, naming the first point with a non-finite coordinate, or naming
+// the first point farther from the surface than the largest double.
 EXACTGEO_API LocateResult locate(const Mesh& mesh, std::span<const double> xyz, const LocateOptions& options = {});
 
 }  // namespace exactgeo
