@@ -96,14 +96,14 @@ asan-build: deps
 test-asan: asan-build
 	cd $(ASAN_BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-# The parallel propagation's, mesh build's and readers' tests under ThreadSanitizer (not in `make test`: the build alone takes minutes).
+# The parallel propagation's, mesh build's, readers' and locate's tests under ThreadSanitizer (not in `make test`: the build alone takes minutes).
 # Left out: the test running all 16 variants on 5 meshes and 4 thread counts, too slow under the sanitizer.
 TSAN_BUILD_DIR ?= $(BUILD_DIR)-tsan
 test-tsan: deps
 	cmake -S . -B $(TSAN_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="-fsanitize=thread -O1 -g" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DEXACTGEO_BUILD_CLI=OFF -DEXACTGEO_BUILD_ORACLE=OFF -DEXACTGEO_BUILD_PYTHON=OFF
 	cmake --build $(TSAN_BUILD_DIR) -j $(JOBS) --target exactgeo_tests
-	$(TSAN_BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Threads.*:CrossingQueues.*:BandQueue.*:WindowLists.*:WorkerPool.*:MeshBuild.*:IoChunks.*:-Threads.EveryVariantGivesTheSequentialDistancesOnEveryThreadCount'
+	$(TSAN_BUILD_DIR)/tests/exactgeo_tests --gtest_filter='Threads.*:CrossingQueues.*:BandQueue.*:WindowLists.*:WorkerPool.*:MeshBuild.*:IoChunks.*:Locate.SameResultOnAnyThreadCount:Locate.HierarchyIsTheSameOnAnyTeam:Locate.ConcurrentFirstCallsShareOneHierarchy:-Threads.EveryVariantGivesTheSequentialDistancesOnEveryThreadCount'
 
 # Longer fuzzing than `make test`: the geometric fuzz tests (tests/test_fuzz.cpp) with FUZZ_CASES cases each
 # (100 and 200 times their defaults) in the Release build, then the mesh readers under libFuzzer for

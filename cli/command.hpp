@@ -29,5 +29,6 @@ Command add_path_command(CLI::App& app);
 Command add_sample_command(CLI::App& app);
 Command add_matrix_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
+Command add_locate_command(CLI::App& app);
 
 }  // namespace exactgeo::cli

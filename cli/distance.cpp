@@ -26,6 +26,7 @@ struct DistanceArguments {
   SourceArguments sources;
   double max_distance = std::numeric_limits<double>::infinity();
   std::vector<std::string> targets;
+  std::vector<std::string> target_xyz;
   std::string targets_beyond = "inf";
   bool labels = false;
   std::string out;
@@ -72,7 +73,8 @@ Reach reach_of(std::span<const double> distances) {
 // at texture or normal seams by the program that wrote it; --weld joins them again.
 void warn_if_seams_cut_the_surface(const DistanceArguments& arguments, const exactgeo::Mesh& mesh, const Reach& reach) {
   const exactgeo::MeshReport& report = mesh.report();
-  if (arguments.mesh.weld || !arguments.targets.empty() || !std::isinf(arguments.max_distance) ||
+  if (arguments.mesh.weld || !arguments.targets.empty() || !arguments.target_xyz.empty() ||
+      !std::isinf(arguments.max_distance) ||
       report.duplicate_positions == 0 || reach.unreachable <= report.unreferenced_vertices)
     return;
   std::fprintf(stderr,
@@ -91,6 +93,7 @@ nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const Load
   json["faces"] = loaded.mesh.face_count();
   json["source"] = sources.vertices;
   json["source_points"] = arguments.sources.points;
+  json["source_xyz"] = arguments.sources.xyz;
   json["targets"] = targets;
   json["max_distance_cutoff"] =
       std::isinf(arguments.max_distance) ? nlohmann::ordered_json() : nlohmann::ordered_json(arguments.max_distance);
@@ -133,7 +136,8 @@ void append_stats_rows(Rows& rows, const exactgeo::GeodesicStats& stats, bool ti
 
 Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const exactgeo::GeodesicOptions& options,
              const exactgeo::GeodesicResult& result, std::size_t targets, const Reach& reach) {
-  const std::size_t source_count = arguments.sources.vertices.size() + arguments.sources.points.size();
+  const std::size_t source_count =
+      arguments.sources.vertices.size() + arguments.sources.points.size() + arguments.sources.xyz.size();
   const bool cut_off = targets > 0 || !std::isinf(arguments.max_distance);
   Rows rows = {{"mesh", arguments.mesh.name},
                {"vertices", std::to_string(loaded.mesh.vertex_count())},
@@ -171,9 +175,13 @@ int run_distance(const DistanceArguments& arguments) {
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const Sources sources = read_sources(arguments.sources, mesh);
-  const std::vector<exactgeo::SurfacePoint> targets =
+  std::vector<exactgeo::SurfacePoint> targets =
       arguments.targets.empty() ? std::vector<exactgeo::SurfacePoint>()
                                 : read_targets(arguments.targets, mesh, "--targets");
+  if (!arguments.target_xyz.empty()) {
+    const exactgeo::LocateResult located = locate_listed(arguments.target_xyz, mesh, "--target-xyz");
+    targets.insert(targets.end(), located.points.begin(), located.points.end());
+  }
   // --targets-beyond exact: the run goes on until every target is final, whatever the cut-off; the cut-off
   // then applies to the vertex distances alone.
   const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";
@@ -247,6 +255,10 @@ Command add_distance_command(CLI::App& app) {
                   "Propagation stops once they are final; vertex distances are then exact up to the farthest "
                   "target and inf beyond")
       ->type_name("FILE|LIST|-");
+  add_list_option(*command, a.mesh, "--target-xyz", a.target_xyz,
+                  "Targets at the closest surface points of points in space X,Y,Z (several, repeated, a file "
+                  "of x y z lines, or - for standard input), numbered after --targets")
+      ->type_name("X,Y,Z|FILE");
   command
       ->add_option("--targets-beyond", a.targets_beyond,
                    "What targets farther than --max-distance get: inf (default; the run stops at the cut-off) or "

@@ -66,10 +66,14 @@ void add_source_options(CLI::App& command, MeshArguments& mesh, SourceArguments&
                                         "Source points on input triangle F with barycentric weights b0,b1,b2 "
                                         "(several, or repeated; numbered after the --source vertices)")
                             ->type_name("F:b0,b1,b2");
+  add_list_option(command, mesh, "--source-xyz", sources.xyz,
+                  "Sources at the closest surface points of points in space X,Y,Z (several, repeated, or a file "
+                  "of x y z lines; numbered after the --source-point points)")
+      ->type_name("X,Y,Z|FILE");
   // Syntax only, once MESH has been taken back from the lists; whether a vertex exists is up to the mesh.
   mesh.checks.push_back([&command, &sources, vertices, points] {
-    if (sources.vertices.empty() && sources.points.empty())
-      throw CLI::RequiredError(command.get_name() + ": --source or --source-point");
+    if (sources.vertices.empty() && sources.points.empty() && sources.xyz.empty())
+      throw CLI::RequiredError(command.get_name() + ": --source, --source-point or --source-xyz");
     for (const std::string& text : sources.vertices)
       if (!count_check()(std::string(text)).empty())
         throw CLI::ValidationError(vertices->get_name(), "'" + text + "' is not a vertex index");
@@ -88,17 +92,21 @@ Sources read_sources(const SourceArguments& arguments, const exactgeo::Mesh& mes
                              std::to_string(mesh.vertex_count()) + " vertices)");
     sources.vertices.push_back(*v);
   }
-  sources.as_points = !arguments.points.empty();
+  sources.as_points = !arguments.points.empty() || !arguments.xyz.empty();
   if (sources.as_points) {
     for (std::uint32_t v : sources.vertices) sources.points.push_back(exactgeo::vertex_point(mesh, v));
     for (const std::string& text : arguments.points) sources.points.push_back(*parse_surface_point(text));
+    if (!arguments.xyz.empty()) {
+      const exactgeo::LocateResult located = locate_listed(arguments.xyz, mesh, "--source-xyz");
+      sources.points.insert(sources.points.end(), located.points.begin(), located.points.end());
+    }
   }
   return sources;
 }
 
 std::string describe_sources(const SourceArguments& arguments) {
   std::string text;
-  for (const auto& list : {arguments.vertices, arguments.points})
+  for (const auto& list : {arguments.vertices, arguments.points, arguments.xyz})
     for (const std::string& source : list) text += (text.empty() ? "" : " ") + source;
   return text;
 }
@@ -169,6 +177,39 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
   }
   if (targets.empty()) throw invalid_argument(origin + ": no target given");
   return targets;
+}
+
+std::vector<double> parse_xyz_list(const std::string& text, const std::string& origin) {
+  std::vector<double> xyz;
+  std::string entries = text;
+  std::replace(entries.begin(), entries.end(), ';', '\n');
+  std::istringstream lines(entries);
+  bool first = true;
+  for (std::string entry; std::getline(lines, entry);) {
+    std::string fields_text = entry;
+    std::replace(fields_text.begin(), fields_text.end(), ',', ' ');
+    std::istringstream fields(fields_text);
+    std::vector<std::string> parts;
+    for (std::string field; fields >> field;) parts.push_back(field);
+    if (parts.empty()) continue;
+    const bool may_be_header = first;
+    first = false;
+    std::array<double, 3> point;
+    std::size_t numbers = 0;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      double value = 0;
+      const auto [ptr, ec] = std::from_chars(parts[k].data(), parts[k].data() + parts[k].size(), value);
+      if (ec != std::errc() || ptr != parts[k].data() + parts[k].size()) continue;
+      if (k < 3) point[k] = value;
+      ++numbers;
+    }
+    if (numbers == 0 && may_be_header) continue;  // x,y,z
+    if (numbers != 3 || parts.size() != 3)
+      throw invalid_argument(origin + ": '" + entry + "' is not a point X,Y,Z");
+    xyz.insert(xyz.end(), point.begin(), point.end());
+  }
+  if (xyz.empty()) throw invalid_argument(origin + ": no point given");
+  return xyz;
 }
 
 namespace {
@@ -340,6 +381,22 @@ std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>&
     }
   }
   return targets;
+}
+
+exactgeo::LocateResult locate_listed(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
+                                     const std::string& origin, unsigned threads) {
+  std::vector<double> xyz;
+  for (const std::string& argument : arguments) {
+    const ListInput input = read_list_input(argument, origin);
+    if (input.npy) throw invalid_argument(input.origin + ": points in space are text (X,Y,Z per line), not .npy");
+    const std::vector<double> listed = parse_xyz_list(input.bytes, input.origin);
+    xyz.insert(xyz.end(), listed.begin(), listed.end());
+  }
+  try {
+    return exactgeo::locate(mesh, xyz, {.threads = threads});
+  } catch (const exactgeo::Error& e) {
+    throw exactgeo::Error(e.code(), origin + ": " + e.what());
+  }
 }
 
 const CLI::Validator& distance_check() {

@@ -49,15 +49,17 @@ struct LoadedMesh {
 // Read and built on `threads` threads (0: one per core), the command's --threads.
 LoadedMesh load_mesh(const MeshArguments& arguments, const std::optional<unsigned>& threads = {});
 
-// --source and --source-point, at least one of them.
+// --source, --source-point and --source-xyz, at least one of them.
 struct SourceArguments {
   std::vector<std::string> vertices;  // syntax checked while parsing, converted after loading
   std::vector<std::string> points;
+  std::vector<std::string> xyz;  // points in space, files or lists: read once the mesh is loaded
 };
 void add_source_options(CLI::App& command, MeshArguments& mesh, SourceArguments& sources);
 
 // The sources as the library takes them: vertex indices alone keep the vertex-source semantics (every copy
-// of a split vertex is a source); with points, vertices become points too. Vertices are numbered first.
+// of a split vertex is a source); with points, vertices become points too. Vertices are numbered first, then
+// --source-point, then --source-xyz (the closest surface point of each).
 struct Sources {
   std::vector<std::uint32_t> vertices;
   std::vector<exactgeo::SurfacePoint> points;
@@ -83,6 +85,16 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
 // input, in any form a file takes).
 std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
                                                  const exactgeo::Mesh& mesh, const std::string& option);
+
+// Points in space, as --points, --source-xyz and --target-xyz take them: X,Y,Z (or X Y Z), points separated
+// by newlines or ';'. `text` is a file's contents (standard input's for -) or the argument itself: a point cloud's .xyz lines or a CSV
+// file of x,y,z, whose header (a first line without numbers) is skipped. Returns x0 y0 z0 x1 ...; `origin`
+// names the option in messages.
+std::vector<double> parse_xyz_list(const std::string& text, const std::string& origin);
+// The closest surface points (exactgeo::locate) of the points in space that a list option's values give,
+// with their distances to the surface.
+exactgeo::LocateResult locate_listed(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
+                                     const std::string& origin, unsigned threads = 0);
 
 // Vertex indices separated by spaces, newlines, ',' or ';'.
 std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin);

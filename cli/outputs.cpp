@@ -286,12 +286,37 @@ constexpr std::array<Format<SamplesWriter>, 3> kSamplesFormatTable = {{
     {".npy", write_samples_npy},
 }};
 
+// --- Located points ------------------------------------------------------------------------------------
+
+// One point F:b0,b1,b2 per line: what --targets reads.
+void write_located_txt(std::FILE* file, const LocatedPoints& located) {
+  for (const exactgeo::SurfacePoint& p : located.points)
+    std::fprintf(file, "%u:%.17g,%.17g,%.17g\n", p.face, p.barycentric[0], p.barycentric[1], p.barycentric[2]);
+}
+
+// point,face,b0,b1,b2,x,y,z,distance: the surface point, where it lies, and the distance to it.
+void write_located_csv(std::FILE* file, const LocatedPoints& located) {
+  std::fputs("point,face,b0,b1,b2,x,y,z,distance\n", file);
+  for (std::size_t i = 0; i < located.points.size(); ++i) {
+    const exactgeo::SurfacePoint& p = located.points[i];
+    const std::array<double, 3>& x = located.positions[i];
+    std::fprintf(file, "%zu,%u,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, p.face, p.barycentric[0],
+                 p.barycentric[1], p.barycentric[2], x[0], x[1], x[2], located.distances[i]);
+  }
+}
+
+constexpr std::array<Format<LocatedWriter>, 2> kLocatedFormatTable = {{
+    {".txt", write_located_txt},
+    {".csv", write_located_csv},
+}};
+
 }  // namespace
 
 const std::span<const Format<ValuesWriter>> kVertexValueFormats = kVertexValueFormatTable;
 const std::span<const Format<ValuesWriter>> kTargetValueFormats = kTargetValueFormatTable;
 const std::span<const Format<PathWriter>> kPathFormats = kPathFormatTable;
 const std::span<const Format<SamplesWriter>> kSamplesFormats = kSamplesFormatTable;
+const std::span<const Format<LocatedWriter>> kLocatedFormats = kLocatedFormatTable;
 
 bool has_extension(const std::string& path, std::string_view extension) {
   if (path.size() <= extension.size()) return false;

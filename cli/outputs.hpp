@@ -5,6 +5,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -115,6 +116,15 @@ extern const std::span<const Format<PathWriter>> kPathFormats;  // .csv .obj .js
 
 using SamplesWriter = void (*)(std::FILE*, const exactgeo::Sampling&);
 extern const std::span<const Format<SamplesWriter>> kSamplesFormats;  // .txt .csv .npy
+
+// Points in space located on the surface: per point, the surface point, where it lies and how far it was.
+struct LocatedPoints {
+  std::span<const exactgeo::SurfacePoint> points;
+  std::span<const std::array<double, 3>> positions;
+  std::span<const double> distances;
+};
+using LocatedWriter = void (*)(std::FILE*, const LocatedPoints&);
+extern const std::span<const Format<LocatedWriter>> kLocatedFormats;  // .txt .csv
 
 // Rows [first, end) of a matrix.
 struct RowRange {

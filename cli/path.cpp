@@ -14,6 +14,7 @@ struct PathArguments {
   MeshArguments mesh;
   SourceArguments sources;
   std::string target;
+  std::string target_xyz;
   std::string out;
   std::optional<unsigned> threads;
 };
@@ -22,10 +23,15 @@ int run_path(const PathArguments& arguments) {
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   const Sources sources = read_sources(arguments.sources, mesh);
-  const std::vector<exactgeo::SurfacePoint> targets = parse_targets(arguments.target, mesh, "--target");
+  const bool in_space = !arguments.target_xyz.empty();
+  const std::vector<exactgeo::SurfacePoint> targets =
+      in_space ? locate_listed({arguments.target_xyz}, mesh, "--target-xyz").points
+               : parse_targets(arguments.target, mesh, "--target");
   if (targets.size() != 1)
-    throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
-                          "--target takes one vertex or point, not " + std::to_string(targets.size()));
+    throw exactgeo::Error(
+        exactgeo::ErrorCode::invalid_argument,
+        std::string(in_space ? "--target-xyz takes one point" : "--target takes one vertex or point") + ", not " +
+            std::to_string(targets.size()));
   exactgeo::GeodesicSolver solver(mesh);
   const exactgeo::GeodesicResult& result = solve(solver, sources, targets, {.threads = threads_for(arguments.threads, mesh)});
   const exactgeo::GeodesicPath path = solver.path_to_target(0);
@@ -56,9 +62,18 @@ Command add_path_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("path", "Shortest path from the nearest source to a target");
   add_mesh_options(*command, arguments->mesh);
   add_source_options(*command, arguments->mesh, arguments->sources);
-  command->add_option("--target", arguments->target, "Target vertex index or point F:b0,b1,b2")
-      ->required()
-      ->type_name("I|F:b0,b1,b2");
+  CLI::Option* target = command->add_option("--target", arguments->target, "Target vertex index or point F:b0,b1,b2")
+                            ->type_name("I|F:b0,b1,b2");
+  CLI::Option* target_xyz =
+      command
+          ->add_option("--target-xyz", arguments->target_xyz,
+                       "Target at the closest surface point of a point in space X,Y,Z (instead of --target)")
+          ->type_name("X,Y,Z");
+  target->excludes(target_xyz);
+  arguments->mesh.checks.push_back([command, a = arguments.get()] {
+    if (a->target.empty() && a->target_xyz.empty())
+      throw CLI::RequiredError(command->get_name() + ": --target or --target-xyz");
+  });
   add_threads_option(*command, arguments->threads);
   add_output_option(*command, "--out", arguments->out,
                     "Write the path: .csv (x,y,z and where each point lies; - writes it to stdout), .obj (a "

@@ -18,9 +18,6 @@ namespace {
 
 constexpr std::size_t kGrain = 1 << 14;
 
-// Faces per build thread at least: below that, starting a thread costs more than its share saves.
-constexpr std::size_t kFacesPerBuildThread = 20000;
-
 // The first index in [0, count) where bad(i) holds, or count: the first element at fault, on any thread count.
 template <class Bad>
 std::size_t first_bad(const ParallelTeam& team, std::size_t count, Bad&& bad) {
@@ -61,11 +58,9 @@ void validate_arrays(const ParallelTeam& team, const std::vector<double>& positi
   if (triangles.empty()) throw Error(ErrorCode::invalid_mesh, "mesh has no faces");
 }
 
-// The threads a build of `face_count` faces runs on. Never more than the cores: the build's passes are all
-// compute, and a thread beyond the cores only waits.
+// The threads a build of `face_count` faces runs on.
 unsigned build_threads(const MeshOptions& options, std::size_t face_count) {
-  const std::size_t worth = std::max<std::size_t>(1, face_count / kFacesPerBuildThread);
-  return static_cast<unsigned>(std::min<std::size_t>({threads_or_cores(options.threads), threads_or_cores(0), worth}));
+  return threads_worth(options.threads, face_count, kFacesPerBuildThread);
 }
 
 }  // namespace

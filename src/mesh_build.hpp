@@ -16,12 +16,23 @@
 
 namespace exactgeo::detail {
 
+// Faces per build thread at least (the mesh's, and the hierarchy locate builds): below that, starting a
+// thread costs more than its share saves.
+inline constexpr std::size_t kFacesPerBuildThread = 20000;
+
 // The whole build on `threads` threads (what Mesh's constructors call, with the count MeshOptions::threads
 // and the mesh's size allow), every pass cut into ranges of `grain` items if set (ParallelTeam).
 std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions, std::vector<std::uint32_t>&& triangles,
                                                  const MeshOptions& options, unsigned threads, std::size_t grain = 0);
 
 using Vec3 = std::array<double, 3>;
+
+inline Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 struct Box {
   Vec3 lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};

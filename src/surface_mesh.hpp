@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <span>
 #include <utility>
@@ -27,6 +28,8 @@ inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max()
 // in 4 KB pages a tenth of its time went to page faults, while random reads through the mesh missed the TLB.
 void* allocate_mesh_bytes(std::size_t bytes, std::size_t alignment);
 void free_mesh_bytes(void* p, std::size_t bytes, std::size_t alignment) noexcept;
+
+struct FaceBvh;  // face_bvh.hpp
 
 // An array of the surface: its elements start uninitialised, so that the build's passes, which write every
 // element on the thread team, are not preceded by one thread zeroing (and first touching) the whole array.
@@ -136,6 +139,11 @@ struct SurfaceMesh {
 
   double length_scale = 1.0;  // bounding-box diagonal of the used vertices (in the engine's frame)
   double mean_edge_length = 0;  // over the halfedges (each inner edge counted twice)
+
+  // The faces' bounding-volume hierarchy for locate (face_bvh.hpp): built by the first call that needs it,
+  // which concurrent ones wait for, then shared by every later one. A mesh never located pays nothing.
+  mutable std::once_flag face_hierarchy_built;
+  mutable std::shared_ptr<const FaceBvh> face_hierarchy;
 
   // Surface vertices that carry input vertex v's distance (none if v is used by no face).
   std::span<const std::uint32_t> copies_of(std::uint32_t input_vertex) const {

@@ -99,6 +99,15 @@ inline unsigned threads_or_cores(unsigned threads) {
   return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
+// The threads worth starting for `items` items of compute-only work when `asked` for (0: one per core): never
+// more than the cores, where a thread beyond them only waits, nor than one per `items_per_thread`, below
+// which starting a thread costs more than its share saves.
+inline unsigned threads_worth(unsigned asked, std::size_t items, std::size_t items_per_thread) {
+  const std::size_t worth = std::max<std::size_t>(1, items / items_per_thread);
+  const std::size_t cores = threads_or_cores(0);
+  return static_cast<unsigned>(std::min<std::size_t>({threads_or_cores(asked), cores, worth}));
+}
+
 class WorkerPool {
  public:
   // `threads` in all, the calling thread included.

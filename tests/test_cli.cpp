@@ -1270,6 +1270,87 @@ TEST_F(Cli, TargetsBeyondTheCutOff) {
   expect_error(run(run_base + " --targets-beyond sometimes"), 1, "sometimes");
 }
 
+// `locate` on a flat grid: the closest point of a point above it is straight below, of one beside it on
+// the border; the .txt output is what --targets reads, the same targets as --target-xyz.
+TEST_F(Cli, LocateFindsTheClosestSurfacePoints) {
+  write_file(path("points.csv"), "x,y,z\n1.5,2.25,3\n-1 0.5 0\n");
+  const RunResult csv = run("locate @grid:4:4 --points " + arg("points.csv") + " 4,4,-2 --out " + arg("l.csv"));
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_EQ(csv.out, "");
+  const std::vector<std::array<double, 4>> expected = {{1.5, 2.25, 0, 3}, {0, 0.5, 0, 1}, {4, 4, 0, 2}};
+  std::istringstream rows(read_file(path("l.csv")));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "point,face,b0,b1,b2,x,y,z,distance");
+  const exactgeo::MeshSoup grid = exactgeo::make_grid(4, 4, 4, 4);
+  std::size_t count = 0;
+  for (; std::getline(rows, line); ++count) {
+    ASSERT_LT(count, expected.size()) << line;
+    std::size_t index = 0;
+    unsigned face = 0;
+    std::array<double, 3> b{}, x{};
+    double distance = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%zu,%u,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &index, &face, &b[0], &b[1], &b[2], &x[0],
+                          &x[1], &x[2], &distance),
+              9)
+        << line;
+    EXPECT_EQ(index, count);
+    for (int axis = 0; axis < 3; ++axis) {
+      double from_face = 0;
+      for (int k = 0; k < 3; ++k) from_face += b[k] * grid.positions[3 * grid.triangles[3 * face + k] + axis];
+      EXPECT_NEAR(from_face, expected[count][axis], 1e-15) << line;
+      EXPECT_NEAR(x[axis], expected[count][axis], 1e-15) << line;
+    }
+    EXPECT_NEAR(distance, expected[count][3], 1e-15) << line;
+  }
+  EXPECT_EQ(count, expected.size());
+  // Without --out, the CSV on stdout.
+  const RunResult printed = run("locate @grid:4:4 --points " + arg("points.csv") + " 4,4,-2");
+  EXPECT_EQ(printed.exit_code, 0) << printed.err;
+  EXPECT_EQ(printed.out, read_file(path("l.csv")));
+  // As .txt, targets for `distance`: the same distances as the points in space as --target-xyz.
+  ASSERT_EQ(run("locate @grid:4:4 --points " + arg("points.csv") + " --out " + arg("l.txt")).exit_code, 0);
+  const std::string distance = "distance @grid:4:4 --source 0 ";
+  ASSERT_EQ(run(distance + "--targets " + arg("l.txt") + " --target-out " + arg("t1.txt")).exit_code, 0);
+  ASSERT_EQ(run(distance + "--target-xyz " + arg("points.csv") + " --target-out " + arg("t2.txt")).exit_code, 0);
+  expect_bitwise_equal(parse_txt(path("t1.txt")), parse_txt(path("t2.txt")));
+  EXPECT_NEAR(parse_txt(path("t1.txt"))[0], std::hypot(1.5, 2.25), 1e-12);
+}
+
+TEST_F(Cli, SourcesAndTargetsInSpace) {
+  // Sources and targets at the closest points of points off a flat grid: distances are straight lines
+  // between the points below them. Located targets come after --targets, located sources after the others.
+  const RunResult run_result = run("distance @grid:4:4 --source-xyz 0,0,5 --targets 24 --target-xyz 4,4,-1 "
+                                   "'2,0,1;0,3,0' --target-out " + arg("t.txt"));
+  ASSERT_EQ(run_result.exit_code, 0) << run_result.err;
+  const std::vector<double> t = parse_txt(path("t.txt"));
+  ASSERT_EQ(t.size(), 4u);
+  EXPECT_NEAR(t[0], 4 * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(t[1], 4 * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(t[2], 2, 1e-12);
+  EXPECT_NEAR(t[3], 3, 1e-12);
+  ASSERT_EQ(run("distance @grid:4:4 --source 24 --source-xyz -1,-1,0 --labels --out " + arg("d.csv")).exit_code, 0);
+  EXPECT_NE(read_file(path("d.csv")).find("\n0,0,1\n"), std::string::npos);  // vertex 0 is source 1's own point
+  // A path to a point in space ends at its closest point.
+  ASSERT_EQ(run("path @grid:4:4 --source 0 --target-xyz 4,4,7 --out " + arg("p.json")).exit_code, 0);
+  const nlohmann::json path_json = nlohmann::json::parse(read_file(path("p.json")));
+  EXPECT_NEAR(path_json["length"].get<double>(), 4 * std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(path_json["locations"].back()["vertex"], 24);
+}
+
+TEST_F(Cli, BadPointsInSpace) {
+  expect_error(run("locate @grid:4:4 --points 1,2"), 2, "--points: '1,2' is not a point X,Y,Z");
+  expect_error(run("locate @grid:4:4 --points 1,2,3,4"), 2, "--points: '1,2,3,4' is not a point X,Y,Z");
+  expect_error(run("locate @grid:4:4 --points 0,0,0 1,nan,0"), 2, "--points: point 1 has a non-finite coordinate");
+  expect_error(run("distance @grid:4:4 --source 0 --target-xyz 'a,b,c'"), 2, "--target-xyz: no point given");
+  expect_error(run("distance @grid:4:4 --source-xyz 0,0,x"), 2, "--source-xyz: '0,0,x' is not a point X,Y,Z");
+  expect_error(run("path @grid:4:4 --source 0 --target-xyz '1,1,0;2,2,0'"), 2, "--target-xyz takes one point, not 2");
+  expect_error(run("locate @grid:4:4"), 1, "--points is required");
+  expect_error(run("locate @grid:4:4 --points 0,0,0 --out l.npy"), 1, "must be .txt or .csv");
+  expect_error(run("path @grid:4:4 --source 0"), 1, "--target or --target-xyz");
+  expect_error(run("path @grid:4:4 --source 0 --target 3 --target-xyz 0,0,0"), 1, "excludes");
+}
+
 TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
   expect_error(run("distance @grid:4:4 --source-point 99:0.2,0.3,0.5"), 2, "face 99");
   expect_error(run("distance @grid:4:4 --source-point 3:0.2,0.3,0.9"), 2, "not barycentric");

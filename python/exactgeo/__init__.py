@@ -18,7 +18,7 @@ from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
 from ._pictures import plot, save_ply, save_vtk
 from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
-from ._surface_point import SurfacePoint, SurfacePoints, edge_point, point_position, vertex_point
+from ._surface_point import SurfacePoint, SurfacePoints, edge_point, locate, point_position, vertex_point
 
 __all__ = [
     "ALGORITHMS",
@@ -38,6 +38,7 @@ __all__ = [
     "edge_point",
     "farthest_point_sampling",
     "isolines",
+    "locate",
     "make_bumpy_torus",
     "make_grid",
     "make_icosphere",

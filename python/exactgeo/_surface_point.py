@@ -1,4 +1,5 @@
-"""Points anywhere on the surface: a face and barycentric coordinates, one at a time or many as arrays.
+"""Points anywhere on the surface: a face and barycentric coordinates, one at a time or many as arrays, and
+the closest of them to points in space (locate).
 
 Barycentric coordinates off by rounding are taken as meant (each down to -1e-6, their sum within 1e-6 of 1:
 clamped and rescaled; below 1e-12 snapped to 0); anything else is rejected by the library when the point is
@@ -175,3 +176,25 @@ def point_position(mesh: Mesh, points: SurfacePoint | SurfacePoints) -> np.ndarr
     many = _as_surface_points(points)
     positions = _core.point_positions(mesh._core, many.faces, many.barycentric)
     return positions if isinstance(points, SurfacePoints) else positions[0]
+
+
+def locate(mesh: Mesh, xyz: object, *, threads: int | None = None) -> tuple[SurfacePoints, np.ndarray]:
+    """The closest surface point of each point in space, and its distance to the surface.
+
+    `xyz` is an (n, 3) array of any real dtype, or one point (3,) (then n = 1). Returns SurfacePoints (on kept
+    input faces; where several faces hold the closest point, an edge or a corner, the lowest face index) and
+    the distances as float64 (n,). The points serve as they are as sources and targets. The first call on a
+    mesh builds a bounding-volume hierarchy of its faces (about 110 bytes per face), which the mesh keeps for
+    later calls. `threads` share the points (0 or None, the default: one per core). The GIL is released while
+    the points are located.
+    """
+    mesh = checked_mesh(mesh)
+    array = np.asarray(xyz)
+    if array.ndim == 1:
+        if array.shape != (3,):
+            raise ValueError(f"xyz must have shape (n, 3) or (3,), not {array.shape}")
+        array = array.reshape(1, 3)
+    points = _inputs.real_array(array, "xyz", columns=3)
+    workers = 0 if threads is None else _inputs.count(threads, "threads")
+    faces, barycentric, distances = _core.locate(mesh._core, points, workers)
+    return SurfacePoints(faces, barycentric), distances

@@ -514,6 +514,21 @@ NB_MODULE(_core, m) {
       },
       "mesh"_a, "faces"_a.noconvert(), "barycentric"_a.noconvert());
 
+  // The closest surface points of an (n, 3) array, without the GIL: (faces, barycentric, distances).
+  m.def(
+      "locate",
+      [](const exactgeo::Mesh& mesh, const PointArray& xyz, unsigned threads) {
+        exactgeo::LocateResult located;
+        {
+          nb::gil_scoped_release release;
+          located = exactgeo::locate(mesh, span_of(xyz), {.threads = threads});
+        }
+        auto [faces, barycentric] = point_arrays(located.points);
+        const std::size_t n = located.distances.size();
+        return std::make_tuple(std::move(faces), std::move(barycentric), to_numpy(std::move(located.distances), {n}));
+      },
+      "mesh"_a, "xyz"_a.noconvert(), "threads"_a);
+
   m.def(
       "make_icosphere", [](int subdivisions) { return soup_arrays(exactgeo::make_icosphere(subdivisions)); },
       "subdivisions"_a);

@@ -10,6 +10,8 @@ from __future__ import annotations
 import json
 import os
 import subprocess
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +45,21 @@ def write_obj(path: Path, vertices: np.ndarray, faces: np.ndarray) -> Path:
 
 def run_cli(*arguments: object) -> subprocess.CompletedProcess:
     return subprocess.run([str(CLI), *map(str, arguments)], capture_output=True, text=True, check=True)
+
+
+def longest_pause_of_python_while(call) -> tuple[float, float]:
+    """Runs `call` in a thread while this one counts; returns the call's duration and the longest time this
+    thread went without running. Holding the GIL through the call would make that pause the whole call."""
+    done = threading.Event()
+    worker = threading.Thread(target=lambda: (call(), done.set()))
+    start = time.perf_counter()
+    worker.start()
+    last, pause = time.perf_counter(), 0.0
+    while not done.is_set():
+        now = time.perf_counter()
+        pause, last = max(pause, now - last), now
+    worker.join()
+    return time.perf_counter() - start, pause
 
 
 def read_json(path: Path) -> dict:

@@ -6,11 +6,10 @@ from __future__ import annotations
 import gc
 import pickle
 import threading
-import time
 
 import numpy as np
 import pytest
-from conftest import bumpy_sheet, read_json, run_cli, write_obj
+from conftest import bumpy_sheet, longest_pause_of_python_while, read_json, run_cli, write_obj
 
 import exactgeo
 
@@ -341,21 +340,6 @@ def test_threads_share_a_mesh_and_a_solver(sheet):
     for s, values in expected.items():
         np.testing.assert_array_equal(found[s], values)
         np.testing.assert_array_equal(shared_found[s], values)
-
-
-def longest_pause_of_python_while(call) -> tuple[float, float]:
-    """Runs `call` in a thread while this one counts; returns the call's duration and the longest time this
-    thread went without running. Holding the GIL through the call would make that pause the whole call."""
-    done = threading.Event()
-    worker = threading.Thread(target=lambda: (call(), done.set()))
-    start = time.perf_counter()
-    worker.start()
-    last, pause = time.perf_counter(), 0.0
-    while not done.is_set():
-        now = time.perf_counter()
-        pause, last = max(pause, now - last), now
-    worker.join()
-    return time.perf_counter() - start, pause
 
 
 def test_the_gil_is_released_while_propagating():
