@@ -70,9 +70,6 @@ struct BuildState {
   MeshArray<std::uint32_t> corner_input_vertex;
   // The corners of each input vertex, in increasing order, and the number of its fans (match_edges).
   Groups corners_of_input_vertex;
-  // The input vertices at a corner of a kept face, in spatial order: the order of the surface's vertices,
-  // and the order match_edges visits them in.
-  MeshArray<std::uint32_t> vertex_order;
   MeshArray<std::uint32_t> fan_count;
 };
 
@@ -86,11 +83,11 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
 // Renumbers the kept faces in spatial order of their centroids.
 void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& state);
 
-// Groups the corners by input vertex and orders the vertices in space. Pairs halfedges along edges into twins (edges of one face are
+// Groups the corners by input vertex. Pairs halfedges along edges into twins (edges of one face are
 // boundary, of three or more are cut) and splits every input vertex's corners into fans, joined across the
 // edges paired at the vertex.
 void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state);
-// One surface vertex per fan, numbered in the spatial order of the input vertices; fills the corner and copy
+// One surface vertex per fan, numbered in spatial order of the input vertices; fills the corner and copy
 // maps. After it, cut edges whose faces meet the same copies of both ends are joined again (a mesh with
 // non-manifold edges only).
 void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state);

@@ -69,44 +69,8 @@ MeshArray<std::uint32_t> spatial_order(const ParallelTeam& team, std::size_t cou
   return std::move(groups.items);
 }
 
-// Sorts [first, last), which is usually a dozen items or fewer (the sides of a vertex): insertion sort there,
-// where std::sort's set-up costs more than the sorting; std::sort beyond, so that no input is quadratic.
-template <class T, class Less>
-void sort_few(T* first, T* last, Less&& less) {
-  if (last - first > std::ptrdiff_t{kPairwiseGroupSize}) {
-    std::sort(first, last, less);
-    return;
-  }
-  for (T* i = first + 1; i < last; ++i) {
-    const T item = *i;
-    T* j = i;
-    for (; j > first && less(item, j[-1]); --j) *j = j[-1];
-    *j = item;
-  }
-}
-
 // The three vertices of a face in increasing order: equal for faces with the same vertex set.
 using VertexSet = std::array<std::uint32_t, 3>;
-
-// The input vertices at a corner of a kept face in spatial order (BuildState::vertex_order). Only those count:
-// an unreferenced vertex far away would stretch the box. Ties of position go to the vertex met first in the
-// faces.
-MeshArray<std::uint32_t> order_vertices_in_space(const ParallelTeam& team, const SurfaceMesh& s, const Groups& corners_of) {
-  const std::size_t vertex_count = corners_of.offsets.size() - 1;
-  MeshArray<std::uint32_t> used(vertex_count);
-  team.for_each(vertex_count, kGrain, [&](std::size_t v) { used[v] = corners_of.size(v) > 0; });
-  const std::size_t used_count = exclusive_prefix_sum(team, used);
-  MeshArray<std::uint32_t> used_vertices(used_count);
-  team.for_each(vertex_count, kGrain, [&](std::size_t v) {
-    if (corners_of.size(v) > 0) used_vertices[used[v]] = static_cast<std::uint32_t>(v);
-  });
-  used = {};
-  MeshArray<std::uint32_t> order = spatial_order(
-      team, used_count, [&](std::size_t i) { return s.input_position(used_vertices[i]); },
-      [&](std::size_t i) { return corners_of.begin(used_vertices[i])[0]; });
-  team.for_each(used_count, kGrain, [&](std::size_t rank) { order[rank] = used_vertices[order[rank]]; });
-  return order;
-}
 
 }  // namespace
 
@@ -241,8 +205,6 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   state.corners_of_input_vertex =
       group_by_key(team, corner_count, vertex_count, [&](std::size_t c) { return corners[c]; });
   const Groups& corners_of = state.corners_of_input_vertex;
-  state.vertex_order = order_vertices_in_space(team, s, corners_of);
-  const MeshArray<std::uint32_t>& order = state.vertex_order;
   s.twin.assign(corner_count, kNone);
   s.corner_vertex.resize(corner_count);
   state.fan_count.assign(vertex_count, 0);
@@ -252,10 +214,9 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   // Each vertex v on its own: the halfedges at its corners (the corner's own, leaving v, and the one before
   // it, arriving) by their other end. An edge with exactly two faces joins the corners of v in them (one
   // fan); it is paired into twins, and counted, at its lower end only. Nothing is read across an edge, so
-  // each vertex touches only its own faces. In spatial order, as the faces are: a range of vertices then
-  // reads and writes a compact range of faces.
+  // each vertex touches only its own faces.
   const EdgeCounts counts = team.reduce_ranges(
-      order.size(), kGrain, EdgeCounts{},
+      vertex_count, kGrain, EdgeCounts{},
       [&](std::size_t first, std::size_t last) {
         EdgeCounts c;
         struct Side {
@@ -268,17 +229,17 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
           while (parent[x] != x) x = parent[x] = parent[parent[x]];
           return x;
         };
-        for (std::size_t rank = first; rank < last; ++rank) {
-          const std::uint32_t v = order[rank];
+        for (std::size_t v = first; v < last; ++v) {
           const std::uint32_t* begin = corners_of.begin(v);
           const auto n = static_cast<std::uint32_t>(corners_of.size(v));
-          sides.resize(2 * std::size_t{n});
+          if (n == 0) continue;
+          sides.clear();
           for (std::uint32_t i = 0; i < n; ++i) {
             const std::uint32_t leaving = begin[i], arriving = prev_halfedge(begin[i]);
-            sides[2 * i] = {std::uint64_t{corners[next_halfedge(leaving)]} << 32 | leaving, i};
-            sides[2 * i + 1] = {std::uint64_t{corners[arriving]} << 32 | arriving, i};
+            sides.push_back({std::uint64_t{corners[next_halfedge(leaving)]} << 32 | leaving, i});
+            sides.push_back({std::uint64_t{corners[arriving]} << 32 | arriving, i});
           }
-          sort_few(sides.data(), sides.data() + sides.size(), [](const Side& x, const Side& y) { return x.key < y.key; });
+          std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.key < y.key; });
           parent.resize(n);
           std::iota(parent.begin(), parent.end(), 0u);
           for (std::size_t i = 0; i < sides.size();) {
@@ -328,10 +289,22 @@ void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state
   const std::size_t corner_count = state.corner_input_vertex.size(), vertex_count = s.input_positions.size() / 3;
   const Groups& corners_of = state.corners_of_input_vertex;
   const MeshArray<std::uint32_t>& fan_count = state.fan_count;
-  // Surface vertices are numbered in the spatial order of their input vertices, the copies of one input
-  // vertex by first corner.
-  const MeshArray<std::uint32_t>& order = state.vertex_order;
-  const std::size_t used_count = order.size();
+  // Surface vertices are numbered in spatial order of their input vertices, the copies of one input vertex
+  // by first corner. Only the vertices of kept faces count: an unreferenced vertex far away would stretch
+  // the box. Ties of position go to the vertex met first in the faces.
+  MeshArray<std::uint32_t> used(vertex_count);
+  team.for_each(vertex_count, kGrain, [&](std::size_t v) { used[v] = fan_count[v] > 0; });
+  const std::size_t used_count = exclusive_prefix_sum(team, used);
+  MeshArray<std::uint32_t> used_vertices(used_count);
+  team.for_each(vertex_count, kGrain, [&](std::size_t v) {
+    if (fan_count[v] > 0) used_vertices[used[v]] = static_cast<std::uint32_t>(v);
+  });
+  used = {};
+  MeshArray<std::uint32_t> order = spatial_order(
+      team, used_count, [&](std::size_t i) { return s.input_position(used_vertices[i]); },
+      [&](std::size_t i) { return corners_of.begin(used_vertices[i])[0]; });
+  team.for_each(used_count, kGrain, [&](std::size_t rank) { order[rank] = used_vertices[order[rank]]; });
+  used_vertices = {};
   // First surface vertex and first corner of each input vertex, in that order.
   MeshArray<std::uint32_t> first_copy(used_count), first_corner(used_count);
   team.for_each(used_count, kGrain, [&](std::size_t rank) {

@@ -77,8 +77,8 @@ constexpr void for_each_build_stats_field(Visit&& visit) {
   visit("duplicate_positions_seconds", &B::duplicate_positions_seconds, "finding vertices at the same position");
   visit("faces_seconds", &B::faces_seconds, "dropping faces that repeat a vertex or an earlier face");
   visit("face_order_seconds", &B::face_order_seconds, "numbering the faces in spatial order");
-  visit("edges_seconds", &B::edges_seconds, "the vertices in spatial order, pairing faces across edges (cutting non-manifold ones), fans at vertices");
-  visit("vertices_seconds", &B::vertices_seconds, "one surface vertex per fan, numbered in that order");
+  visit("edges_seconds", &B::edges_seconds, "pairing faces across edges (cutting non-manifold ones), fans at vertices");
+  visit("vertices_seconds", &B::vertices_seconds, "one surface vertex per fan, numbered in spatial order");
   visit("geometry_seconds", &B::geometry_seconds, "edge lengths, unfolding frames, angles, saddles");
   visit("fan_walk_seconds", &B::fan_walk_seconds, "ordering each vertex's corners around it");
   visit("components_seconds", &B::components_seconds, "counting the connected pieces");
