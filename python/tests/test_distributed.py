@@ -243,10 +243,11 @@ def test_the_sparse_layout_equals_distance_matrix_with_max_distance(client, tmp_
 
 
 def _slowly(*arguments):
-    """The block task, a fifth of a second longer: blocks still queued when the run is interrupted."""
+    """The block task, a second longer: blocks still queued when the run is interrupted. (A fifth of a second
+    was too little on a loaded machine: the client heard of the fourth block when all fifteen were done.)"""
     import time
 
-    time.sleep(0.2)
+    time.sleep(1.0)
     from exactgeo import distributed as module  # in a worker: the module as it is, not the test's patch
 
     return module._compute_block(*arguments)
