@@ -20,7 +20,7 @@ import pytest
 import exactgeo
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-BUILD_DIR = Path(os.environ.get("EXACTGEO_BUILD_DIR", REPOSITORY / "build"))
+BUILD_DIR = Path(os.environ.get("EXACTGEO_BUILD_DIR", REPOSITORY / "build")).resolve()  # the tests change folders
 CLI = BUILD_DIR / "cli" / "exactgeo"
 MESH_DIR = Path(os.environ.get("EXACTGEO_MESH_DIR", REPOSITORY.parent / "shared" / "meshes"))
 

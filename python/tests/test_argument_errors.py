@@ -73,6 +73,8 @@ CALLS: list[tuple[str, Callable[..., Any], dict[str, Any], dict[str, list[Any]]]
     ("vertex_point", exactgeo.vertex_point, dict(mesh=MESH, vertex=0), dict(mesh=MESH_ARGUMENT, vertex=INDEX)),
     ("edge_point", exactgeo.edge_point, dict(mesh=MESH, from_vertex=0, to_vertex=1, t=0.5),
      dict(mesh=MESH_ARGUMENT, from_vertex=INDEX, to_vertex=INDEX, t=REAL)),
+    ("locate", exactgeo.locate, dict(mesh=MESH, xyz=[0.0, 0.0, 0.0]),
+     dict(mesh=MESH_ARGUMENT, xyz=ARRAY, threads=COUNT)),
     ("point_position", exactgeo.point_position, dict(mesh=MESH, points=exactgeo.SurfacePoint(0)),
      dict(mesh=MESH_ARGUMENT, points=["x", None, 0])),
     ("GeodesicSolver", exactgeo.GeodesicSolver, {}, dict(mesh=MESH_ARGUMENT)),
