@@ -13,7 +13,7 @@
 namespace exactgeo::detail {
 namespace {
 
-constexpr std::size_t kGrain = 1 << 12;
+constexpr std::size_t kBoxGrain = 1 << 12;
 
 // A box is skipped only if its squared distance, less this fraction, still exceeds the best face's: the two
 // are computed with a few roundings each (a few ulps apart at most), and a box skipped for rounding could
@@ -126,7 +126,7 @@ FaceBvh build_face_bvh(const ParallelTeam& team, const SurfaceMesh& mesh) {
     return corners;
   };
   std::vector<Vec3> centroid_sum(face_count);  // three times the centroid: only its order matters
-  team.for_each(face_count, kGrain, [&](std::size_t f) {
+  team.for_each(face_count, kBoxGrain, [&](std::size_t f) {
     const std::array<Vec3, 3> corners = corners_of(static_cast<std::uint32_t>(f));
     for (int k = 0; k < 3; ++k) centroid_sum[f][k] = corners[0][k] + corners[1][k] + corners[2][k];
   });
@@ -160,14 +160,14 @@ FaceBvh build_face_bvh(const ParallelTeam& team, const SurfaceMesh& mesh) {
 
   bvh.corners.resize(face_count);
   bvh.input_faces.resize(face_count);
-  team.for_each(face_count, kGrain, [&](std::size_t e) {
+  team.for_each(face_count, kBoxGrain, [&](std::size_t e) {
     bvh.corners[e] = corners_of(order[e]);
     bvh.input_faces[e] = mesh.surface_face_to_input[order[e]];
   });
   // point_at's rounding: each coordinate a sum of three weighted corners, each weight at most 1 and the
   // weights summing to 1 up to a few ulps, errs by a few ulps of the largest coordinate at most.
   const double largest = team.reduce_ranges(
-      face_count, kGrain, 0.0,
+      face_count, kBoxGrain, 0.0,
       [&](std::size_t first, std::size_t end) {
         double m = 0;
         for (std::size_t e = first; e < end; ++e)

@@ -16,7 +16,7 @@ namespace {
 
 // Points per thread at least: below that, starting a thread costs more than its share of the searches.
 constexpr std::size_t kPointsPerThread = 4096;
-constexpr std::size_t kGrain = 256;
+constexpr std::size_t kPointGrain = 256;
 
 // How far from the mesh's centre, in half extents of the mesh, a point is searched from; a point farther away
 // is searched from this far along the same direction. As a point recedes along a direction, its closest
@@ -73,7 +73,7 @@ LocateResult locate(const Mesh& mesh, std::span<const double> xyz, const LocateO
     half_extent = std::max(half_extent, 0.5 * root.hi[k] - 0.5 * root.lo[k]);
   }
   WorkerPool pool(threads_worth(options.threads, count, kPointsPerThread));
-  ParallelTeam{pool}.for_each(count, kGrain, [&](std::size_t i) {
+  ParallelTeam{pool}.for_each(count, kPointGrain, [&](std::size_t i) {
     const Vec3 point = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
     const SurfaceClosestPoint closest = closest_surface_point(bvh, search_point(s, center, half_extent, point));
     result.points[i] = {closest.input_face, closest.point.barycentric};

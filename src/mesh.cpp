@@ -16,13 +16,13 @@ namespace exactgeo {
 namespace detail {
 namespace {
 
-constexpr std::size_t kGrain = 1 << 14;
+constexpr std::size_t kCheckGrain = 1 << 14;
 
 // The first index in [0, count) where bad(i) holds, or count: the first element at fault, on any thread count.
 template <class Bad>
 std::size_t first_bad(const ParallelTeam& team, std::size_t count, Bad&& bad) {
   return team.reduce_ranges(
-      count, kGrain, count,
+      count, kCheckGrain, count,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
           if (bad(i)) return i;

@@ -11,7 +11,7 @@
 namespace exactgeo::detail {
 namespace {
 
-constexpr std::size_t kGrain = 1 << 12;
+constexpr std::size_t kGeometryGrain = 1 << 12;
 
 }  // namespace
 
@@ -37,7 +37,7 @@ void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
   s.halfedges.resize(3 * std::size_t{face_count});
   s.corner_angle.resize(3 * std::size_t{face_count});
   MeshArray<std::uint8_t> degenerate(face_count);
-  team.for_each(face_count, kGrain, [&](std::size_t f) {
+  team.for_each(face_count, kGeometryGrain, [&](std::size_t f) {
     const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
                                         s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),
                                         s.position(s.surface_to_input[s.corner_vertex[3 * f + 2]])};
@@ -61,7 +61,7 @@ void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
     const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
     degenerate[f] = doubled_area <= kDegenerateAreaRatio * longest * longest;
   });
-  s.report.degenerate_faces = team.count_if(face_count, kGrain, [&](std::size_t f) { return degenerate[f] != 0; });
+  s.report.degenerate_faces = team.count_if(face_count, kGeometryGrain, [&](std::size_t f) { return degenerate[f] != 0; });
   // In halfedge order, as one thread sums: the band width of parallel runs derives from it.
   double total_length = 0;
   for (const HalfedgeGeometry& g : s.halfedges) total_length += g.length;
@@ -71,7 +71,7 @@ void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
   // the boundary or on a degenerate face, and so whether geodesics may bend there.
   s.fan_angles_reliable.resize(s.vertex_count);
   s.is_pseudo_source.resize(s.vertex_count);
-  s.report.saddle_vertices = team.count_if(s.vertex_count, kGrain, [&](std::size_t v) {
+  s.report.saddle_vertices = team.count_if(s.vertex_count, kGeometryGrain, [&](std::size_t v) {
     double angle_sum = 0;
     bool on_boundary = false, near_degenerate = false;
     for (std::uint32_t i = s.vertex_corner_offsets[v]; i < s.vertex_corner_offsets[v + 1]; ++i) {
@@ -99,11 +99,11 @@ void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
   s.fan_closed.resize(s.vertex_count);
   // Corners a broken fan never reaches (around a degenerate face) keep these defaults. Filled in corner order:
   // through each vertex's corners it would be a scattered write per corner.
-  team.for_each(corner_count, kGrain, [&](std::size_t c) {
+  team.for_each(corner_count, kGeometryGrain, [&](std::size_t c) {
     s.fan_angle_start[c] = 0.0;
     s.corner_enters_forward[c] = 1;
   });
-  team.for_each(s.vertex_count, kGrain, [&](std::size_t vertex) {
+  team.for_each(s.vertex_count, kGeometryGrain, [&](std::size_t vertex) {
     const auto v = static_cast<std::uint32_t>(vertex);
     const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
     // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.

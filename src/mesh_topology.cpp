@@ -17,7 +17,7 @@ namespace exactgeo::detail {
 namespace {
 
 // Items per range of the passes below: a few microseconds of work each.
-constexpr std::size_t kGrain = 1 << 13;
+constexpr std::size_t kTopologyGrain = 1 << 13;
 
 // Spreads the low 21 bits of x so that two zero bits follow each (bit i moves to bit 3i).
 std::uint64_t spread_bits(std::uint64_t x) {
@@ -42,7 +42,7 @@ MeshArray<std::uint32_t> spatial_order(const ParallelTeam& team, std::size_t cou
   const Box box = bounding_box(team, count, point_of);
   constexpr double kCells = (1 << 21) - 1;
   MeshArray<std::uint64_t> code(count);
-  team.for_each(count, kGrain, [&](std::size_t i) {
+  team.for_each(count, kTopologyGrain, [&](std::size_t i) {
     const Vec3 p = point_of(i);
     std::uint64_t c = 0;
     for (int k = 0; k < 3; ++k) {
@@ -57,7 +57,7 @@ MeshArray<std::uint32_t> spatial_order(const ParallelTeam& team, std::size_t cou
   Groups groups = group_by_key(team, count, std::size_t{1} << bits,
                                [&](std::size_t i) { return bits == 0 ? 0 : code[i] >> (63 - bits); });
   const std::size_t group_count = groups.offsets.size() - 1;
-  team.for_ranges(group_count, kGrain, [&](std::size_t first, std::size_t last) {
+  team.for_ranges(group_count, kTopologyGrain, [&](std::size_t first, std::size_t last) {
     for (std::size_t g = first; g < last; ++g) {
       if (groups.size(g) < 2) continue;
       std::sort(groups.items.data() + groups.offsets[g], groups.items.data() + groups.offsets[g + 1],
@@ -79,7 +79,7 @@ void find_duplicate_positions(const ParallelTeam& team, SurfaceMesh& s, BuildSta
   state.same_position = first_at_same_position(
       team, vertex_count, [&](std::size_t v) { return s.input_position(static_cast<std::uint32_t>(v)); });
   s.report.duplicate_positions =
-      team.count_if(vertex_count, kGrain, [&](std::size_t v) { return state.same_position[v] != v; });
+      team.count_if(vertex_count, kTopologyGrain, [&](std::size_t v) { return state.same_position[v] != v; });
 }
 
 void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& state, bool weld) {
@@ -100,7 +100,7 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
   {
     const Groups by_lowest = group_by_key(team, face_count, vertex_count,
                                           [&](std::size_t f) { return vertex_set(f)[0]; });
-    team.for_ranges(vertex_count, kGrain, [&](std::size_t first, std::size_t last) {
+    team.for_ranges(vertex_count, kTopologyGrain, [&](std::size_t first, std::size_t last) {
       std::vector<std::pair<VertexSet, std::uint32_t>> sorted;
       std::array<VertexSet, kPairwiseGroupSize> sets;
       for (std::size_t g = first; g < last; ++g) {
@@ -139,9 +139,9 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
   }
   // Kept faces are numbered in input order.
   MeshArray<std::uint32_t> kept_index(face_count);
-  team.for_each(face_count, kGrain, [&](std::size_t f) { kept_index[f] = first_face[f] == f; });
+  team.for_each(face_count, kTopologyGrain, [&](std::size_t f) { kept_index[f] = first_face[f] == f; });
   report.faces_used = exclusive_prefix_sum(team, kept_index);
-  report.faces_repeating_a_vertex = team.count_if(face_count, kGrain, [&](std::size_t f) { return first_face[f] == kNone; });
+  report.faces_repeating_a_vertex = team.count_if(face_count, kTopologyGrain, [&](std::size_t f) { return first_face[f] == kNone; });
   report.duplicate_faces = face_count - report.faces_used - report.faces_repeating_a_vertex;
   if (report.faces_used == 0)
     throw Error(ErrorCode::invalid_mesh, "mesh has no usable face: all " + std::to_string(report.faces) +
@@ -151,7 +151,7 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
   s.input_face_to_surface.resize(face_count);
   s.surface_face_to_input.resize(report.faces_used);
   state.corner_input_vertex.resize(3 * report.faces_used);
-  team.for_each(face_count, kGrain, [&](std::size_t f) {
+  team.for_each(face_count, kTopologyGrain, [&](std::size_t f) {
     const std::uint32_t first = first_face[f];
     s.input_face_to_surface[f] = first == kNone ? kNone : kept_index[first];
     if (first != f) return;
@@ -163,10 +163,10 @@ void drop_repeated_faces(const ParallelTeam& team, SurfaceMesh& s, BuildState& s
       std::atomic_ref(used[v]).store(1, std::memory_order_relaxed);  // other faces may mark it at once
     }
   });
-  report.unreferenced_vertices = team.count_if(vertex_count, kGrain, [&](std::size_t v) { return !used[v]; });
+  report.unreferenced_vertices = team.count_if(vertex_count, kTopologyGrain, [&](std::size_t v) { return !used[v]; });
   if (weld) {
     s.canonical_input.assign(state.same_position.begin(), state.same_position.end());
-    report.welded_vertices = team.count_if(vertex_count, kGrain, [&](std::size_t v) { return s.canonical_input[v] != v; });
+    report.welded_vertices = team.count_if(vertex_count, kTopologyGrain, [&](std::size_t v) { return s.canonical_input[v] != v; });
   }
 }
 
@@ -174,7 +174,7 @@ void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& 
   MeshArray<std::uint32_t>& corners = state.corner_input_vertex;
   const std::size_t face_count = corners.size() / 3;
   MeshArray<Vec3> centroids(face_count);
-  team.for_each(face_count, kGrain, [&](std::size_t f) {
+  team.for_each(face_count, kTopologyGrain, [&](std::size_t f) {
     Vec3& c = centroids[f];
     c = {0, 0, 0};
     for (int k = 0; k < 3; ++k)
@@ -185,7 +185,7 @@ void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& 
       team, face_count, [&](std::size_t f) { return centroids[f]; }, [](std::size_t f) { return f; });
   centroids = {};
   MeshArray<std::uint32_t> ordered_corners(corners.size()), face_to_input(face_count), renumbered(face_count);
-  team.for_each(face_count, kGrain, [&](std::size_t f) {
+  team.for_each(face_count, kTopologyGrain, [&](std::size_t f) {
     const std::uint32_t old = order[f];
     std::copy_n(corners.begin() + 3 * std::ptrdiff_t{old}, 3, ordered_corners.begin() + 3 * std::ptrdiff_t(f));
     face_to_input[f] = s.surface_face_to_input[old];
@@ -193,7 +193,7 @@ void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& 
   });
   corners = std::move(ordered_corners);
   s.surface_face_to_input = std::move(face_to_input);
-  team.for_each(s.input_face_to_surface.size(), kGrain, [&](std::size_t f) {
+  team.for_each(s.input_face_to_surface.size(), kTopologyGrain, [&](std::size_t f) {
     std::uint32_t& surface_face = s.input_face_to_surface[f];
     if (surface_face != kNone) surface_face = renumbered[surface_face];
   });
@@ -216,7 +216,7 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   // fan); it is paired into twins, and counted, at its lower end only. Nothing is read across an edge, so
   // each vertex touches only its own faces.
   const EdgeCounts counts = team.reduce_ranges(
-      vertex_count, kGrain, EdgeCounts{},
+      vertex_count, kTopologyGrain, EdgeCounts{},
       [&](std::size_t first, std::size_t last) {
         EdgeCounts c;
         struct Side {
@@ -293,21 +293,21 @@ void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state
   // by first corner. Only the vertices of kept faces count: an unreferenced vertex far away would stretch
   // the box. Ties of position go to the vertex met first in the faces.
   MeshArray<std::uint32_t> used(vertex_count);
-  team.for_each(vertex_count, kGrain, [&](std::size_t v) { used[v] = fan_count[v] > 0; });
+  team.for_each(vertex_count, kTopologyGrain, [&](std::size_t v) { used[v] = fan_count[v] > 0; });
   const std::size_t used_count = exclusive_prefix_sum(team, used);
   MeshArray<std::uint32_t> used_vertices(used_count);
-  team.for_each(vertex_count, kGrain, [&](std::size_t v) {
+  team.for_each(vertex_count, kTopologyGrain, [&](std::size_t v) {
     if (fan_count[v] > 0) used_vertices[used[v]] = static_cast<std::uint32_t>(v);
   });
   used = {};
   MeshArray<std::uint32_t> order = spatial_order(
       team, used_count, [&](std::size_t i) { return s.input_position(used_vertices[i]); },
       [&](std::size_t i) { return corners_of.begin(used_vertices[i])[0]; });
-  team.for_each(used_count, kGrain, [&](std::size_t rank) { order[rank] = used_vertices[order[rank]]; });
+  team.for_each(used_count, kTopologyGrain, [&](std::size_t rank) { order[rank] = used_vertices[order[rank]]; });
   used_vertices = {};
   // First surface vertex and first corner of each input vertex, in that order.
   MeshArray<std::uint32_t> first_copy(used_count), first_corner(used_count);
-  team.for_each(used_count, kGrain, [&](std::size_t rank) {
+  team.for_each(used_count, kTopologyGrain, [&](std::size_t rank) {
     first_copy[rank] = fan_count[order[rank]];
     first_corner[rank] = static_cast<std::uint32_t>(corners_of.size(order[rank]));
   });
@@ -317,7 +317,7 @@ void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state
   s.surface_to_input.resize(s.vertex_count);
   s.vertex_corner_offsets.resize(std::size_t{s.vertex_count} + 1);
   s.vertex_corners.resize(corner_count);
-  team.for_ranges(used_count, kGrain, [&](std::size_t first, std::size_t last) {
+  team.for_ranges(used_count, kTopologyGrain, [&](std::size_t first, std::size_t last) {
     std::vector<std::uint32_t> cursor;
     for (std::size_t rank = first; rank < last; ++rank) {
       const std::uint32_t v = order[rank], fans = fan_count[v], base = first_copy[rank];
@@ -341,14 +341,14 @@ void number_vertices(const ParallelTeam& team, SurfaceMesh& s, BuildState& state
   s.vertex_corner_offsets[s.vertex_count] = static_cast<std::uint32_t>(corner_count);
 
   // The copies of each input vertex: consecutive surface vertices.
-  s.report.non_manifold_vertices = team.count_if(vertex_count, kGrain, [&](std::size_t v) { return fan_count[v] > 1; });
+  s.report.non_manifold_vertices = team.count_if(vertex_count, kTopologyGrain, [&](std::size_t v) { return fan_count[v] > 1; });
   MeshArray<std::uint32_t> copy_of_rank = std::move(first_copy);
   s.input_copies_offsets.resize(vertex_count + 1);
-  team.for_each(vertex_count, kGrain, [&](std::size_t v) { s.input_copies_offsets[v] = fan_count[v]; });
+  team.for_each(vertex_count, kTopologyGrain, [&](std::size_t v) { s.input_copies_offsets[v] = fan_count[v]; });
   s.input_copies_offsets[vertex_count] = 0;
   exclusive_prefix_sum(team, s.input_copies_offsets);
   s.input_copies.resize(s.vertex_count);
-  team.for_each(used_count, kGrain, [&](std::size_t rank) {
+  team.for_each(used_count, kTopologyGrain, [&](std::size_t rank) {
     const std::uint32_t v = order[rank];
     for (std::uint32_t fan = 0; fan < fan_count[v]; ++fan)
       s.input_copies[s.input_copies_offsets[v] + fan] = copy_of_rank[rank] + fan;
@@ -380,10 +380,10 @@ void join_cut_edges_between_same_copies(SurfaceMesh& s) {
 
 std::size_t count_components(const ParallelTeam& team, const SurfaceMesh& s) {
   ConcurrentUnionFind faces(s.face_count());
-  team.for_each(s.twin.size(), kGrain, [&](std::size_t h) {
+  team.for_each(s.twin.size(), kTopologyGrain, [&](std::size_t h) {
     if (s.twin[h] != kNone && s.twin[h] < h) faces.unite(face_of(static_cast<std::uint32_t>(h)), face_of(s.twin[h]));
   });
-  return team.count_if(s.face_count(), kGrain, [&](std::size_t f) { return faces.is_root(static_cast<std::uint32_t>(f)); });
+  return team.count_if(s.face_count(), kTopologyGrain, [&](std::size_t f) { return faces.is_root(static_cast<std::uint32_t>(f)); });
 }
 
 }  // namespace exactgeo::detail
