@@ -994,6 +994,21 @@ TEST_F(Cli, NpzMatricesStreamThroughABlockOfRows) {
 }
 
 // The samples file is a sources file: matrix --sources reads the vertex column of sample's CSV.
+// More samples than vertices is an error before any work; more than one piece holds gives what it holds, and a
+// warning says how many (the Python function does both the same way).
+TEST_F(Cli, SampleSaysWhenItCannotGiveTheCountAskedFor) {
+  // Two triangles apart: from vertex 0 only the first three vertices are within reach.
+  write_file(path("two.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nf 1 2 3\nf 4 5 6\n");
+  expect_error(run("sample " + arg("two.obj") + " -k 7"), 2, "--count 7 exceeds the mesh's 6 vertices");
+  const RunResult fewer = run("sample " + arg("two.obj") + " -k 5 --quiet");
+  ASSERT_EQ(fewer.exit_code, 0) << fewer.err;
+  EXPECT_EQ(fewer.out, "0\n1\n2\n");
+  EXPECT_NE(fewer.err.find("warning: 3 of the 5 samples asked for"), std::string::npos) << fewer.err;
+  const RunResult all = run("sample " + arg("two.obj") + " -k 3 --quiet");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_EQ(all.err, "");
+}
+
 TEST_F(Cli, MatrixReadsTheSamplesThatSampleWrites) {
   ASSERT_EQ(run("sample @icosphere:2 -k 4 --out " + arg("s.csv")).exit_code, 0);
   ASSERT_EQ(run("sample @icosphere:2 -k 4 --out " + arg("s.txt")).exit_code, 0);
