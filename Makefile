@@ -33,10 +33,13 @@ python: deps
 
 # The Python code's lint (ruff: the package, its tests and the benchmark) and the package's types (mypy, strict),
 # both configured in pyproject.toml. mypy reads the compiled _core's types from the stub that `make python`
-# installed with it, so it runs after that.
+# installed with it, so it runs after that. Then the format of the C++ lines changed since FORMAT_BASE (by
+# default where this branch left main; scripts/check-format.sh), against .clang-format.
+FORMAT_BASE ?=
 lint: python
 	python3 -m ruff check
 	python3 -m mypy
+	bash scripts/check-format.sh $(FORMAT_BASE)
 
 # Wheels in $(WHEEL_DIR), manylinux_2_28 (glibc 2.28 and newer), one for each interpreter of WHEEL_PYTHONS:
 # built with Zig's compiler against that glibc and repaired by auditwheel (scripts/build-wheels.sh,
