@@ -37,9 +37,11 @@ class AlgorithmOptions(RunOptions, total=False):
     library's default; distances are exact whatever they are."""
 
     # threads sharing one run (0: one per core). Default: one per 10,000 faces, up to one per core (1 below
-    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14.
-    # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared. In
-    # distance_matrix and farthest_point_sampling, `threads` spreads the sources over threads instead.
+    # 20,000 faces). Every count above 1 gives one thread's distances to within 1e-14 of the largest, the last
+    # bits changing from run to run (include/exactgeo/geodesic.hpp, for_each_option_field).
+    # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared.
+    # farthest_point_sampling's runs share them likewise; distance_matrix's own `threads` argument spreads its
+    # sources over threads instead (RunOptions).
     threads: int
 
 
