@@ -31,7 +31,13 @@ def is_named(path: str, page: str) -> bool:
     return any(re.search(pattern, page) for pattern in patterns)
 
 
-@pytest.mark.skipif(shutil.which("git") is None or not (REPOSITORY / ".git").exists(), reason="needs a git checkout")
+def in_git_checkout() -> bool:
+    return shutil.which("git") is not None and subprocess.run(
+        ["git", "rev-parse", "--is-inside-work-tree"], cwd=REPOSITORY, capture_output=True
+    ).returncode == 0
+
+
+@pytest.mark.skipif(not in_git_checkout(), reason="needs a git checkout of the repository")
 def test_every_file_is_named_in_the_architecture_page():
     page = (REPOSITORY / "docs" / "architecture.md").read_text()
     files = tracked_files()

@@ -44,7 +44,8 @@ def repository(tmp_path: Path) -> Path:
     shutil.copy(REPOSITORY / "scripts" / "check-format.sh", tmp_path / "scripts")
     shutil.copy(REPOSITORY / ".clang-format", tmp_path)
     (tmp_path / "demo.cpp").write_text(FORMATTED)
-    git(tmp_path, "init", "-q", "-b", "main")
+    git(tmp_path, "init", "-q")
+    git(tmp_path, "symbolic-ref", "HEAD", "refs/heads/main")  # what `init -b main` does, on any git
     git(tmp_path, "add", ".")
     git(tmp_path, "commit", "-q", "-m", "start")
     return tmp_path
