@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps deps-command build python wheel-tools wheel wheels sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
+.PHONY: deps deps-command build python lint wheel-tools wheel wheels sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
 
 deps:
 	@bash scripts/install-deps.sh all
@@ -30,6 +30,16 @@ build: deps
 python: deps
 	python3 -m pip install -q -r python/requirements-test.txt
 	python3 -m pip install -q --no-build-isolation -Cbuild-dir=$(BUILD_DIR)/pip -Ccmake.define.EXACTGEO_BUILD_CLI=OFF .
+
+# The Python code's lint (ruff: the package, its tests and the benchmark) and the package's types (mypy, strict),
+# both configured in pyproject.toml. mypy reads the compiled _core's types from the stub that `make python`
+# installed with it, so it runs after that. Then the format of the C++ lines changed since FORMAT_BASE (by
+# default where this branch left main; scripts/check-format.sh), against .clang-format.
+FORMAT_BASE ?=
+lint: python
+	python3 -m ruff check
+	python3 -m mypy
+	bash scripts/check-format.sh $(FORMAT_BASE)
 
 # Wheels in $(WHEEL_DIR), manylinux_2_28 (glibc 2.28 and newer), one for each interpreter of WHEEL_PYTHONS:
 # built with Zig's compiler against that glibc and repaired by auditwheel (scripts/build-wheels.sh,
@@ -71,7 +81,7 @@ demo: deps-command
 
 # The Python suites run mostly on one core, so python3's wheel builds beside them (each one's output kept
 # together), and its own tests follow (`make wheels` builds and tests those of the other Pythons).
-test: build python
+test: build python lint
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	$(MAKE) test-asan
 	$(MAKE) -j 2 --output-sync=target test-python wheel

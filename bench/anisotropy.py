@@ -21,8 +21,14 @@ from reports.anisotropy import write_markdown, write_plot
 from reports.files import write_json_and_markdown
 from reports.machine import report_header
 from solvers.commands import Configuration, kAlgorithms, kReference, make_solvers, missing_cli_options, variant_solver
-from solvers.runner import (RunSettings, SolverHistory, bench_variants, default_memory_limit_gb, exactness_exit_status,
-                            launcher_floor_bytes)
+from solvers.runner import (
+    RunSettings,
+    SolverHistory,
+    bench_variants,
+    default_memory_limit_gb,
+    exactness_exit_status,
+    launcher_floor_bytes,
+)
 
 kBenchDir = Path(__file__).resolve().parent
 

@@ -25,8 +25,15 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
 from solvers.commands import missing_cli_options
 from solvers.end_to_end import add_steps, configuration, kPeerReader, kPeers, whole_runs
-from solvers.runner import (RunSettings, SolverHistory, add_build_and_folder_options, bench_mesh,
-                            default_memory_limit_gb, default_threads, launcher_floor_bytes)
+from solvers.runner import (
+    RunSettings,
+    SolverHistory,
+    add_build_and_folder_options,
+    bench_mesh,
+    default_memory_limit_gb,
+    default_threads,
+    launcher_floor_bytes,
+)
 
 kBenchDir = Path(__file__).resolve().parent
 kRepoRoot = kBenchDir.parent

@@ -8,6 +8,7 @@ part of `v/vt/vn` references, polygons fan-triangulated from their first corner.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import sys
 from pathlib import Path
 
@@ -240,6 +241,6 @@ def prepare_anisotropic_meshes(work_dir: Path, face_count: int, stretches: list[
     meshes = []
     for stretch in stretches:
         name = f"ridged-{face_count}-x{stretch:g}"
-        generate = lambda stretch=stretch: anisotropic_height_field(face_count, stretch)
+        generate = functools.partial(anisotropic_height_field, face_count, stretch)
         meshes.append(_cached_arrays(name, cache / f"{name}.obj", cache, [Path(__file__)], generate))
     return meshes

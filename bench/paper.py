@@ -25,11 +25,24 @@ from pathlib import Path
 from meshes import kSubdivided, select_meshes
 from reports.files import write_json_and_markdown
 from reports.machine import report_header
-from reports.variants import (comparison, kPaperClaims, kPaperTable3, measured, paper_table3_summary,
-                              write_markdown, write_plots)
+from reports.variants import (
+    comparison,
+    kPaperClaims,
+    kPaperTable3,
+    measured,
+    paper_table3_summary,
+    write_markdown,
+    write_plots,
+)
 from solvers.commands import all_configurations, kReference, missing_cli_options, variant_solver
-from solvers.runner import (RunSettings, SolverHistory, bench_variants, default_memory_limit_gb, exactness_exit_status,
-                            launcher_floor_bytes)
+from solvers.runner import (
+    RunSettings,
+    SolverHistory,
+    bench_variants,
+    default_memory_limit_gb,
+    exactness_exit_status,
+    launcher_floor_bytes,
+)
 
 kBenchDir = Path(__file__).resolve().parent
 kRepoRoot = kBenchDir.parent

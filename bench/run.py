@@ -18,8 +18,14 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import report_header
 from reports.peers import write_markdown, write_plots
 from solvers.commands import kSolverNames, make_solvers
-from solvers.runner import (RunSettings, SolverHistory, bench_mesh, default_memory_limit_gb, kDefaultMaxFaces,
-                            launcher_floor_bytes)
+from solvers.runner import (
+    RunSettings,
+    SolverHistory,
+    bench_mesh,
+    default_memory_limit_gb,
+    kDefaultMaxFaces,
+    launcher_floor_bytes,
+)
 
 kBenchDir = Path(__file__).resolve().parent
 kRepoRoot = kBenchDir.parent

@@ -12,8 +12,17 @@ import pytest
 import end_to_end
 from meshes import BenchMesh, anisotropic_height_field, write_obj
 from reports.end_to_end import threads_text, write_markdown
-from solvers.end_to_end import (WholeExactgeoRun, WholePeerRun, add_steps, exactgeo_steps, later_repeat_distances,
-                                median_build_timings, median_steps, split_wall, whole_runs)
+from solvers.end_to_end import (
+    WholeExactgeoRun,
+    WholePeerRun,
+    add_steps,
+    exactgeo_steps,
+    later_repeat_distances,
+    median_build_timings,
+    median_steps,
+    split_wall,
+    whole_runs,
+)
 from solvers.runner import RunSettings, run_once
 
 kNewStats = {"read_seconds": 0.1, "build_seconds": 0.3, "propagation_seconds": 0.5, "write_seconds": 0.05,
@@ -108,8 +117,8 @@ def test_every_repeat_writes_its_distances_as_a_user_would(tmp_path):
 def test_a_peer_is_left_out_without_the_common_reader(monkeypatch):
     [peer] = whole_runs(["gdist"], [1], Path("exactgeo"))
     find_spec = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec",
-                        lambda name: None if name == "potpourri3d" else (object() if name == "gdist" else find_spec(name)))
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None if name == "potpourri3d"
+                        else (object() if name == "gdist" else find_spec(name)))
     assert "every peer reads the mesh with potpourri3d.read_mesh" in peer.unavailable_reason()
 
 

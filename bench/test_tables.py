@@ -2,8 +2,18 @@
 
 import pytest
 
-from reports.tables import (format_bytes, format_count, format_megabytes, format_percent, format_ratio,
-                            format_relative_error, format_seconds, format_times, markdown_table, runs_text)
+from reports.tables import (
+    format_bytes,
+    format_count,
+    format_megabytes,
+    format_percent,
+    format_ratio,
+    format_relative_error,
+    format_seconds,
+    format_times,
+    markdown_table,
+    runs_text,
+)
 
 
 def test_a_table_has_a_header_a_separator_aligned_per_column_and_one_line_per_row():

@@ -35,8 +35,14 @@ from reports.files import write_json, write_json_and_markdown
 from reports.machine import build_info, report_header
 from reports.threads import write_markdown
 from solvers.commands import missing_cli_options
-from solvers.runner import (RunSettings, SolverHistory, add_build_and_folder_options, bench_mesh, default_threads,
-                            launcher_floor_bytes)
+from solvers.runner import (
+    RunSettings,
+    SolverHistory,
+    add_build_and_folder_options,
+    bench_mesh,
+    default_threads,
+    launcher_floor_bytes,
+)
 from solvers.threads import threads_runs
 
 kBenchDir = Path(__file__).resolve().parent

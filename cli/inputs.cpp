@@ -52,10 +52,6 @@ std::optional<std::uint32_t> parse_vertex(std::string_view text) {
   return v;
 }
 
-exactgeo::Error invalid_argument(const std::string& message) {
-  return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, message);
-}
-
 }  // namespace
 
 void add_source_options(CLI::App& command, MeshArguments& mesh, SourceArguments& sources) {

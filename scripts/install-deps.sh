@@ -6,9 +6,9 @@ set -euo pipefail
 # CLI11 and nlohmann-json are header-only: the command's option parsing and its JSON summaries.
 packages=(g++ cmake ninja-build libcli11-dev nlohmann-json3-dev)
 if [ "${1:-all}" = all ]; then
-  # The CGAL oracle, the test suite, and clang with its runtime libraries (libFuzzer, the sanitizers) for the
-  # sanitizer and fuzzer tests (make test-asan).
-  packages+=(libcgal-dev libgtest-dev libgmock-dev clang libclang-rt-14-dev)
+  # The CGAL oracle, the test suite, clang with its runtime libraries (libFuzzer, the sanitizers) for the
+  # sanitizer and fuzzer tests (make test-asan), and clang-format (with git-clang-format) for make lint.
+  packages+=(libcgal-dev libgtest-dev libgmock-dev clang libclang-rt-14-dev clang-format)
 elif [ "$1" != command ]; then
   echo "usage: $0 [command|all]" >&2
   exit 2

@@ -19,7 +19,7 @@ std::string coordinates_text(const std::array<double, 3>& b) {
 
 }  // namespace
 
-LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what) {
+LocatedPoint locate_checked(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what) {
   const std::size_t input_faces = mesh.input_face_to_surface.size();
   if (point.face >= input_faces)
     throw Error(ErrorCode::invalid_argument, what + ": face " + std::to_string(point.face) +
@@ -129,7 +129,7 @@ SurfacePoint edge_point(const Mesh& mesh, std::uint32_t from, std::uint32_t to, 
 
 std::array<double, 3> point_position(const Mesh& mesh, const SurfacePoint& point) {
   const detail::SurfaceMesh& s = mesh.surface();
-  const detail::LocatedPoint located = detail::locate(s, point, "point");
+  const detail::LocatedPoint located = detail::locate_checked(s, point, "point");
   std::array<double, 3> p = {0, 0, 0};
   for (int k = 0; k < 3; ++k) {
     const std::uint32_t v = s.surface_to_input[s.corner_vertex[3 * located.face + k]];

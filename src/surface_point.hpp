@@ -20,9 +20,11 @@ struct LocatedPoint {
   std::uint32_t edge = kNone;    // the halfedge of `face` whose interior it lies on, if any
 };
 
-// Throws Error(invalid_argument) naming `what` (e.g. "source 2") for a face out of range or dropped by the
-// mesh policy, non-finite coordinates, or coordinates that are not barycentric up to kBarycentricSlack.
-LocatedPoint locate(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what);
+// Where a given surface point lies on the surface mesh, once checked (unlike the public exactgeo::locate,
+// which finds the closest surface point of a point in space). Throws Error(invalid_argument) naming `what`
+// (e.g. "source 2") for a face out of range or dropped by the mesh policy, non-finite coordinates, or
+// coordinates that are not barycentric up to kBarycentricSlack.
+LocatedPoint locate_checked(const SurfaceMesh& mesh, const SurfacePoint& point, const std::string& what);
 
 // The surface copies of input vertex `vertex` as a source (several where the mesh policy split it). Throws
 // Error(invalid_argument) if the index is out of range or the vertex is used by no face.

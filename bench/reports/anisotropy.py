@@ -141,8 +141,8 @@ def write_plot(results_dir: Path, report: dict) -> Path:
                       title="growth of time with anisotropy")
     count_axes.set(ylabel="window propagations", title="window propagations (our variants)")
     for key, label in kPhases:
-        phase_axes.plot(*series(timers, kTimersSolver, lambda record: record["solver_stats"].get(key)), marker="o",
-                        label=label)
+        phase_axes.plot(*series(timers, kTimersSolver, lambda record, key=key: record["solver_stats"].get(key)),
+                        marker="o", label=label)
     phase_axes.set(ylabel="seconds (run with timers on)", title="VTP's phases against anisotropy (Figure 11)")
     for axes in (time_axes, relative_axes, count_axes, phase_axes):
         axes.set_xscale("log")

@@ -10,8 +10,15 @@ from __future__ import annotations
 from pathlib import Path
 
 from reports.machine import compiler_text, load_text, machine_section, run_line
-from reports.tables import (format_bytes, format_percent, format_ratio, format_relative_error, format_seconds,
-                            kMissing, markdown_table)
+from reports.tables import (
+    format_bytes,
+    format_percent,
+    format_ratio,
+    format_relative_error,
+    format_seconds,
+    kMissing,
+    markdown_table,
+)
 
 kStepHeaders = {"start": "start + other", "read": "read", "build": "build", "solve": "solve", "write": "write"}
 

@@ -11,8 +11,16 @@ from pathlib import Path
 from meshes import kSubdivided
 from reports.figures import pyplot, save_figure
 from reports.machine import compiler_text, cpu_text, load_text, revision_text, versions_text
-from reports.tables import (format_bytes, format_ratio, format_relative_error, format_seconds, kGiB,
-                            kMissing, markdown_table, runs_text)
+from reports.tables import (
+    format_bytes,
+    format_ratio,
+    format_relative_error,
+    format_seconds,
+    kGiB,
+    kMissing,
+    markdown_table,
+    runs_text,
+)
 
 # One shape at growing resolution: each subdivision has 4x the faces of the mesh before it.
 kResolutionFamily = ["nefertiti", *kSubdivided]
@@ -258,7 +266,7 @@ def write_plots(results_dir: Path, report: dict) -> list[Path]:
         axes.set_xscale("log")
         axes.set_yscale("log")
         axes.xaxis.set_major_formatter(FuncFormatter(face_count_text))
-        axes.yaxis.set_major_formatter(FuncFormatter(lambda value, _: format_value(value)))
+        axes.yaxis.set_major_formatter(FuncFormatter(lambda value, _, tick_text=format_value: tick_text(value)))
         for axis in (axes.xaxis, axes.yaxis):
             axis.set_minor_formatter(NullFormatter())
         axes.set_xlabel("faces")

@@ -8,8 +8,14 @@ import statistics
 from pathlib import Path
 
 from reports.machine import cpu_text, load_text, machine_section, revision_text
-from reports.tables import (format_percent, format_ratio, format_relative_error, format_seconds, markdown_table,
-                            runs_text)
+from reports.tables import (
+    format_percent,
+    format_ratio,
+    format_relative_error,
+    format_seconds,
+    markdown_table,
+    runs_text,
+)
 
 # The prediction's constants, measured on a 16-CPU Xeon VM (16 cores, one thread each, one NUMA node) on the
 # bunny, nefertiti and its 400K and 1.6M subdivisions at 2, 4, 8, 12 and 16 threads (test_threads.py holds the

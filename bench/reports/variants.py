@@ -14,8 +14,18 @@ import numpy as np
 
 from reports.figures import pyplot, save_figure
 from reports.machine import machine_section, run_line
-from reports.tables import (format_bytes, format_count, format_megabytes, format_percent, format_relative_error,
-                            format_seconds, format_times, kMissing, markdown_table, ratio)
+from reports.tables import (
+    format_bytes,
+    format_count,
+    format_megabytes,
+    format_percent,
+    format_relative_error,
+    format_seconds,
+    format_times,
+    kMissing,
+    markdown_table,
+    ratio,
+)
 from solvers.commands import Configuration, VariantSolver, kAlgorithmLabels, kAlgorithms, kReference
 from solvers.runner import exactness_failures, kExactTolerance
 

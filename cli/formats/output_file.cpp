@@ -17,6 +17,10 @@ namespace exactgeo::cli {
 
 exactgeo::Error io_error(const std::string& message) { return exactgeo::Error(exactgeo::ErrorCode::io_error, message); }
 
+exactgeo::Error invalid_argument(const std::string& message) {
+  return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, message);
+}
+
 namespace {
 
 // Links followed at most, as Linux's path resolution allows (ELOOP beyond).

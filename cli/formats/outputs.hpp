@@ -67,6 +67,8 @@ OutputTarget output_target(const std::string& path);
 
 // The error of a file that cannot be written or read, its message naming the file.
 exactgeo::Error io_error(const std::string& message);
+// The error of a value that the mesh or a store cannot take (exit code 2), its message naming the value.
+exactgeo::Error invalid_argument(const std::string& message);
 
 // An output file that appears only when complete: written to a temporary file beside its destination
 // (output_target) and renamed over it by commit(). A run that fails or is interrupted leaves an existing file

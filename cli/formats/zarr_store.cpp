@@ -31,10 +31,6 @@ using Json = nlohmann::ordered_json;
 
 constexpr int kZarrFormat = 3;
 
-exactgeo::Error invalid(const std::string& message) {
-  return exactgeo::Error(exactgeo::ErrorCode::invalid_argument, message);
-}
-
 // mesh_sha256 of a mesh given as its counts and its positions (float64) and triangles (uint32) as little-endian
 // bytes, as a store keeps them.
 std::string mesh_digest(std::size_t vertex_count, std::size_t face_count, bool weld,
@@ -189,8 +185,8 @@ std::optional<Json> read_json(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return std::nullopt;
   Json json = Json::parse(file, nullptr, false);
-  if (json.is_discarded()) throw invalid("'" + path.string() + "' is not valid JSON");
-  if (!json.is_object()) throw invalid("'" + path.string() + "' holds " + json.dump() + ", not a JSON object");
+  if (json.is_discarded()) throw invalid_argument("'" + path.string() + "' is not valid JSON");
+  if (!json.is_object()) throw invalid_argument("'" + path.string() + "' holds " + json.dump() + ", not a JSON object");
   return json;
 }
 
@@ -219,24 +215,26 @@ std::optional<Stored> read_stored(const fs::path& path) {
   std::error_code error;
   if (!fs::exists(path, error)) return std::nullopt;
   if (!fs::is_directory(path, error))
-    throw invalid("'" + path.string() + "' exists and is not a folder: choose another store");
+    throw invalid_argument("'" + path.string() + "' exists and is not a folder: choose another store");
   if (fs::is_empty(path, error)) return std::nullopt;
   std::optional<Json> attributes;
   int zarr_format = kZarrFormat;
   if (const std::optional<Json> root = read_json(path / "zarr.json")) {
     if (root->value("zarr_format", Json()) != kZarrFormat || root->value("node_type", Json()) != "group")
-      throw invalid("'" + (path / "zarr.json").string() + "' is not the metadata of a Zarr format 3 group");
+      throw invalid_argument("'" + (path / "zarr.json").string() + "' is not the metadata of a Zarr format 3 group");
     attributes = root->value("attributes", Json::object());
   } else if (fs::is_regular_file(path / ".zgroup", error)) {
     zarr_format = 2;
     attributes = read_json(path / ".zattrs").value_or(Json::object());
   } else {
-    throw invalid("'" + path.string() + "' exists and is not a Zarr store: choose another store (nothing was changed)");
+    throw invalid_argument("'" + path.string() +
+                           "' exists and is not a Zarr store: choose another store (nothing was changed)");
   }
   const Json settings = attributes->is_object() ? attributes->value("exactgeo", Json()) : Json();
   if (!settings.is_object() || settings.value("format", "") != kStoreFormat)
-    throw invalid("'" + path.string() + "' is a Zarr store but not an exactgeo distance matrix: choose another "
-                  "store (nothing was changed)");
+    throw invalid_argument("'" + path.string() +
+                           "' is a Zarr store but not an exactgeo distance matrix: choose another "
+                           "store (nothing was changed)");
   // Every count is checked against the others, so that an edited block count cannot hide blocks.
   const auto count = [](const Json& value) { return value.is_number_unsigned(); };
   const auto indices = [&count](const Json& value) {
@@ -251,8 +249,9 @@ std::optional<Stored> read_stored(const fs::path& path) {
       !count(settings.value("vertex_count", Json())) || !count(settings.value("face_count", Json())) ||
       !settings.value("weld_duplicate_positions", Json()).is_boolean() ||
       !settings.value("mesh_sha256", Json()).is_string())
-    throw invalid("'" + path.string() + "': its exactgeo attribute has no valid shape, dtype, max_distance, blocks, "
-                  "block_rows, sources, targets and mesh");
+    throw invalid_argument("'" + path.string() +
+                           "': its exactgeo attribute has no valid shape, dtype, max_distance, blocks, "
+                           "block_rows, sources, targets and mesh");
   const BlockShape block_shape{.rows = shape[0].get<std::size_t>(),
                                .columns = shape[1].get<std::size_t>(),
                                .block_rows = block_rows.get<std::size_t>(),
@@ -260,16 +259,16 @@ std::optional<Stored> read_stored(const fs::path& path) {
                                .max_distance = settings["max_distance"]};
   const Json layout = settings.value("layout", Json());
   if (!layout.is_string() || layout.get<std::string>() != (block_shape.sparse() ? "sparse" : "dense"))
-    throw invalid("'" + path.string() + "': its exactgeo attribute's layout " + layout.dump() +
-                  " does not go with its max_distance " + block_shape.max_distance.dump());
+    throw invalid_argument("'" + path.string() + "': its exactgeo attribute's layout " + layout.dump() +
+                           " does not go with its max_distance " + block_shape.max_distance.dump());
   const Json columns = targets.is_null() ? settings.value("vertex_count", Json()) : Json(targets.size());
   if (sources.size() != block_shape.rows || columns != block_shape.columns)
-    throw invalid("'" + path.string() + "': its exactgeo attribute's shape " + shape.dump() + " is not its sources "
-                  "by its targets (or vertices)");
+    throw invalid_argument("'" + path.string() + "': its exactgeo attribute's shape " + shape.dump() +
+                           " is not its sources by its targets (or vertices)");
   if (blocks != block_shape.blocks())
-    throw invalid("'" + path.string() + "': its exactgeo attribute has " + blocks.dump() + " blocks, but " +
-                  shape[0].dump() + " rows in blocks of " + block_rows.dump() + " make " +
-                  std::to_string(block_shape.blocks()));
+    throw invalid_argument("'" + path.string() + "': its exactgeo attribute has " + blocks.dump() + " blocks, but " +
+                           shape[0].dump() + " rows in blocks of " + block_rows.dump() + " make " +
+                           std::to_string(block_shape.blocks()));
   return Stored{settings, block_shape, zarr_format};
 }
 
@@ -793,15 +792,15 @@ std::vector<std::string> store_differences(const Json& stored, const Json& wante
 StoreStatus read_store_status(const fs::path& store, bool verify) {
   const fs::path path = fs::absolute(store);
   const std::optional<Stored> stored = read_stored(path);
-  if (!stored) throw invalid("'" + path.string() + "' holds no exactgeo distance matrix store");
+  if (!stored) throw invalid_argument("'" + path.string() + "' holds no exactgeo distance matrix store");
   StoreStatus status{stored->settings, done_blocks(path, stored->shape.blocks()), {}, {}, {}};
   if (verify) {
     if (stored->zarr_format != kZarrFormat)
-      throw invalid("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
-                    " store: the command verifies format 3 stores only");
+      throw invalid_argument("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
+                             " store: the command verifies format 3 stores only");
     if (!stored->shape.sparse())
       if (const std::string problem = distances_problem(path, stored->shape); !problem.empty())
-        throw invalid("cannot verify '" + path.string() + "': " + problem);
+        throw invalid_argument("cannot verify '" + path.string() + "': " + problem);
     std::vector<std::size_t> intact;
     for (std::size_t block : status.done) {
       std::string problem = block_problem(path, stored->shape, block);
@@ -843,21 +842,22 @@ std::unique_ptr<MatrixWriter> open_matrix_store(const std::string& path_text, co
   }
   if (!stored) throw io_error("'" + path.string() + "' was removed while it was made");
   if (stored->zarr_format != kZarrFormat)
-    throw invalid("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
-                  " store (zarr-python 2 made it); the command writes format 3 only: continue it with "
-                  "exactgeo.distributed, or choose another store (nothing was changed)");
+    throw invalid_argument("'" + path.string() + "' is a Zarr format " + std::to_string(stored->zarr_format) +
+                           " store (zarr-python 2 made it); the command writes format 3 only: continue it with "
+                           "exactgeo.distributed, or choose another store (nothing was changed)");
   if (!explicit_block_rows) settings.block_rows = stored->shape.block_rows;
   const std::vector<std::string> differences =
       store_differences(stored->settings, settings_json(settings), explicit_block_rows);
   if (!differences.empty()) {
     std::string message = "the store '" + path.string() + "' was made for ";
     for (std::size_t i = 0; i < differences.size(); ++i) message += (i ? "; " : "") + differences[i];
-    throw invalid(message + ". Use another store, or remove this one to start over (nothing was changed)");
+    throw invalid_argument(message + ". Use another store, or remove this one to start over (nothing was changed)");
   }
   if (!settings.max_distance)
     if (const std::string problem = distances_problem(path, stored->shape); !problem.empty())
-      throw invalid("cannot write into '" + path.string() + "': " + problem +
-                    ". Continue this store with exactgeo.distributed, or choose another store (nothing was changed)");
+      throw invalid_argument(
+          "cannot write into '" + path.string() + "': " + problem +
+          ". Continue this store with exactgeo.distributed, or choose another store (nothing was changed)");
   return std::make_unique<StoreWriter>(path, std::move(settings), stored->shape, request);
 }
 

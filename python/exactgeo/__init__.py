@@ -10,8 +10,7 @@ precision. Bad input raises ValueError with the library's message naming the ele
 cannot be read raise OSError. See docs/python.md in the repository for a guide.
 """
 
-from ._core import GeodesicStats, MeshReport
-from ._core import version as __version__
+from ._core import GeodesicStats, MeshReport, version as __version__
 from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResult, GeodesicSolver, distance, path
 from ._isolines import isolines
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Callable, Literal, TypedDict, overload
 
 import numpy as np
@@ -12,7 +12,7 @@ import numpy as np
 from . import _core, _inputs
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
-from ._surface_point import SurfacePoint, SurfacePoints, Sites, holds_points, source_sites, target_points
+from ._surface_point import Sites, SurfacePoint, SurfacePoints, holds_points, source_sites, target_points
 from ._warnings import warn
 
 if TYPE_CHECKING:
@@ -22,18 +22,26 @@ ALGORITHMS: tuple[str, ...] = tuple(_core.algorithm_names())
 """Names accepted by the `algorithm` option."""
 
 
-class AlgorithmOptions(TypedDict, total=False):
-    """Keyword arguments that choose how the engine runs (C++: exactgeo::GeodesicOptions). Every one has the
-    library's default; distances are exact whatever they are."""
+class RunOptions(TypedDict, total=False):
+    """The AlgorithmOptions but `threads`: the keyword arguments of distance_matrix, whose own `threads`
+    argument is the number of threads its sources are spread over."""
 
     algorithm: str  # one of ALGORITHMS (paper Section 5); "vtp", the default, is the paper's final algorithm
     rule1: bool  # paper Section 4.1: prune with the window list's separating point
     rule23: bool  # paper Sections 4.2-4.3: pairwise checks between neighbouring windows
     collect_timings: bool  # split propagation_seconds in `stats` into its phases (slows the run down by up to 60%)
+
+
+class AlgorithmOptions(RunOptions, total=False):
+    """Keyword arguments that choose how the engine runs (C++: exactgeo::GeodesicOptions). Every one has the
+    library's default; distances are exact whatever they are."""
+
     # threads sharing one run (0: one per core). Default: one per 10,000 faces, up to one per core (1 below
-    # 20,000 faces). Distances are identical for every count above 1 and agree with one thread's to 1e-14.
-    # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared. In
-    # distance_matrix and farthest_point_sampling, `threads` spreads the sources over threads instead.
+    # 20,000 faces). Every count above 1 gives one thread's distances to within 1e-14 of the largest, the last
+    # bits changing from run to run (include/exactgeo/geodesic.hpp, for_each_option_field).
+    # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared.
+    # farthest_point_sampling's runs share them likewise; distance_matrix's own `threads` argument spreads its
+    # sources over threads instead (RunOptions).
     threads: int
 
 
@@ -59,7 +67,7 @@ def exact_targets(targets_beyond: str, has_targets: bool, max_distance: float | 
     return targets_beyond == "exact" and has_targets and max_distance is not None
 
 
-def geodesic_options(max_distance: float | None, options: AlgorithmOptions) -> _core.GeodesicOptions:
+def geodesic_options(max_distance: float | None, options: Mapping[str, object]) -> _core.GeodesicOptions:
     unknown = sorted(options.keys() - _OPTION_NAMES)
     if unknown:
         raise TypeError(f"unexpected keyword argument {unknown[0]!r} (options: {', '.join(sorted(_OPTION_NAMES))})")
@@ -127,7 +135,7 @@ class GeodesicPath:
         )
 
     @classmethod
-    def _of(cls, arrays: tuple) -> GeodesicPath:
+    def _of(cls, arrays: tuple[Any, ...]) -> GeodesicPath:
         points, kind, vertices, weights, face, length, source = arrays
         return cls(points, np.asarray(kind, dtype=str), vertices, weights, face, length, source)
 

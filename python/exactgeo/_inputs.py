@@ -15,7 +15,7 @@ import math
 import numbers
 import operator
 import os
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
@@ -44,7 +44,7 @@ def positions_array(values: object, what: str = "vertices") -> np.ndarray:
 
 
 def index_array(
-    values: object, what: str, columns: int | None, element: Callable[[tuple], str], out_of_range: str
+    values: object, what: str, columns: int | None, element: Callable[[tuple[int, ...]], str], out_of_range: str
 ) -> np.ndarray:
     """A C-ordered uint32 array of indices from any integer dtype, or floats holding whole numbers: 1-D, or
     of shape (n, columns).
@@ -124,7 +124,7 @@ def _check_polygon_range(indices: np.ndarray, starts: np.ndarray, vertex_count: 
         raise ValueError(f"face {face} names vertex {indices[position]}, but the mesh has {vertex_count} vertices")
 
 
-def _polygon_list(faces: object) -> list | None:
+def _polygon_list(faces: object) -> list[Any] | None:
     """The faces as a list of index sequences if they are a sequence of sequences of different lengths."""
     if isinstance(faces, np.ndarray) and faces.dtype != object:
         return None
@@ -254,7 +254,7 @@ def _check_shape(array: np.ndarray, what: str, columns: int | None) -> None:
         raise ValueError(f"{what} must have shape (n, {columns}), not {array.shape}")
 
 
-def _first(mask: np.ndarray) -> tuple:
+def _first(mask: np.ndarray) -> tuple[int, ...]:
     return tuple(int(i) for i in np.argwhere(mask)[0])
 
 

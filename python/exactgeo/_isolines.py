@@ -105,7 +105,7 @@ def _chain(segments: np.ndarray, points: np.ndarray) -> list[np.ndarray]:
     node_count = len(points)
     ends = segments.reshape(-1)
     order = np.argsort(ends, kind="stable")
-    incident = (order // 2).tolist()  # segment numbers, grouped by node
+    incident: list[int] = (order // 2).tolist()  # segment numbers, grouped by node
     start_of = np.concatenate([[0], np.cumsum(np.bincount(ends, minlength=node_count))]).tolist()
     degree = np.diff(start_of)
     seg = segments.tolist()

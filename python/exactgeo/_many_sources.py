@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, overload
 import numpy as np
 
 from . import _core, _inputs
-from ._geodesic import AlgorithmOptions, TargetsBeyond, exact_targets, geodesic_options
+from ._geodesic import AlgorithmOptions, RunOptions, TargetsBeyond, exact_targets, geodesic_options
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, run_with_progress
 from ._surface_point import VertexIndices, holds_points
@@ -29,7 +29,7 @@ def distance_matrix(
     targets_beyond: TargetsBeyond = "inf",
     threads: int | None = None,
     progress: Progress = None,
-    **options: Unpack[AlgorithmOptions],
+    **options: Unpack[RunOptions],
 ) -> np.ndarray: ...
 @overload
 def distance_matrix(
@@ -41,7 +41,7 @@ def distance_matrix(
     targets_beyond: TargetsBeyond = "inf",
     threads: int | None = None,
     progress: Progress = None,
-    **options: Unpack[AlgorithmOptions],
+    **options: Unpack[RunOptions],
 ) -> csr_array: ...
 def distance_matrix(
     mesh: Mesh,
@@ -52,7 +52,7 @@ def distance_matrix(
     targets_beyond: TargetsBeyond = "inf",
     threads: int | None = None,
     progress: Progress = None,
-    **options: Unpack[AlgorithmOptions],
+    **options: Unpack[RunOptions],
 ) -> np.ndarray | csr_array:
     """Distances from each source vertex (rows) to every input vertex (columns), or to `targets`.
 
@@ -96,7 +96,9 @@ def distance_matrix(
     return scipy.sparse.csr_array((values, indices, row_offsets), shape=(len(vertices), width))
 
 
-def _rows_and_columns(mesh: Mesh, sources: VertexIndices, targets: VertexIndices | None) -> tuple:
+def _rows_and_columns(
+    mesh: Mesh, sources: VertexIndices, targets: VertexIndices | None
+) -> tuple[np.ndarray, np.ndarray, bool]:
     """The source vertices, the target vertices (empty without targets) and whether targets were given."""
     # The library's matrices run from vertices only; for points, say which call takes them.
     if holds_points(sources):

@@ -116,7 +116,7 @@ def unpack_vtk_faces(packed: np.ndarray) -> np.ndarray | list[np.ndarray]:
         table = packed.reshape(-1, size + 1)
         if (table[:, 0] == size).all():
             return table[:, 1:]
-    faces = []
+    faces: list[np.ndarray] = []
     start = 0
     while start < packed.size:
         size = int(packed[start])

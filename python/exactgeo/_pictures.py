@@ -5,7 +5,8 @@ colour bar, isolines and a path (plot)."""
 from __future__ import annotations
 
 import os
-from typing import Any, Callable, Sequence, Union
+from collections.abc import Sequence
+from typing import Any, Callable, Union
 
 import numpy as np
 
@@ -26,7 +27,8 @@ def ramp_rgb(t: np.ndarray) -> np.ndarray:
     x = np.clip(np.asarray(t, dtype=np.float64), 0.0, 1.0) * (len(RAMP) - 1)
     i = np.minimum(x.astype(np.int64), len(RAMP) - 2)
     f = (x - i)[:, None]
-    return (RAMP[i] + f * (RAMP[i + 1] - RAMP[i])) / 255.0
+    rgb: np.ndarray = (RAMP[i] + f * (RAMP[i + 1] - RAMP[i])) / 255.0
+    return rgb
 
 
 def colormap(cmap: Colormap) -> Callable[[np.ndarray], np.ndarray]:

@@ -6,7 +6,7 @@ samples, or thousandths of the mesh) and their total; `finish` completes the bar
 
 from __future__ import annotations
 
-from typing import Callable, Optional, TypeVar, Union
+from typing import Callable, TypeVar, Union
 
 ProgressCallback = Callable[[int, int], object]
 Result = TypeVar("Result")
@@ -16,7 +16,7 @@ Progress = Union[bool, None, ProgressCallback]
 def checked(progress: object) -> Progress:
     """`progress` itself if it is one of the forms it takes; a TypeError saying them otherwise."""
     if progress is True or progress is None or progress is False or callable(progress):
-        return progress  # type: ignore[return-value]
+        return progress
     raise TypeError(f"progress must be True, False, None or a function (done, total), not {progress!r}")
 
 
@@ -25,7 +25,7 @@ class Reporter:
 
     def __init__(self, progress: Progress, description: str) -> None:
         self._bar = None
-        self._callback: Optional[ProgressCallback] = None
+        self._callback: ProgressCallback | None = None
         self._last = (0, 0)
         if checked(progress) is True:
             try:
@@ -62,7 +62,7 @@ class Reporter:
 
 
 def run_with_progress(
-    progress: Progress, description: str, total: int, call: Callable[[Optional[Reporter]], Result]
+    progress: Progress, description: str, total: int, call: Callable[[Reporter | None], Result]
 ) -> Result:
     """call(reporter or None) with the reporter finished or abandoned afterwards."""
     reporter = Reporter(progress, description)

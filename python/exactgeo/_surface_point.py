@@ -11,12 +11,15 @@ from __future__ import annotations
 import dataclasses
 import operator
 from collections.abc import Sequence
-from typing import Any, Union
+from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 
 from . import _core, _inputs
 from ._mesh import Mesh, checked_mesh
+
+if TYPE_CHECKING:
+    from typing_extensions import TypeGuard  # typing's own from Python 3.10
 
 
 @dataclasses.dataclass(frozen=True)
@@ -129,7 +132,7 @@ def _points_text(points: Any) -> str:
     return type(points).__name__
 
 
-def holds_points(sites: Any) -> bool:
+def holds_points(sites: Any) -> TypeGuard[SurfacePoint | Sequence[SurfacePoint] | SurfacePoints]:
     """Whether `sites` are surface points (a SurfacePoint, SurfacePoints, or a sequence with a SurfacePoint)."""
     return isinstance(sites, (SurfacePoint, SurfacePoints)) or (
         isinstance(sites, Sequence) and any(isinstance(s, SurfacePoint) for s in sites)
@@ -160,11 +163,11 @@ def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:
 def edge_point(mesh: Mesh, from_vertex: int, to_vertex: int, t: float) -> SurfacePoint:
     """The point (1 - t) * from_vertex + t * to_vertex on their edge, t in [0, 1]."""
     mesh = checked_mesh(mesh)
-    ends = [
+    start, end = [
         _inputs.vertex_index(vertex, mesh.vertex_count, what, f"edge ({from_vertex}, {to_vertex}): vertex")
         for vertex, what in ((from_vertex, "from_vertex"), (to_vertex, "to_vertex"))
     ]
-    face, (b0, b1, b2) = _core.edge_point(mesh._core, *ends, _inputs.real(t, "t"))
+    face, (b0, b1, b2) = _core.edge_point(mesh._core, start, end, _inputs.real(t, "t"))
     return SurfacePoint(face, (b0, b1, b2))
 
 

@@ -53,14 +53,18 @@ import os
 import shutil
 import time
 import uuid
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Callable, Union
 
 import numpy as np
 
 from . import _inputs
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, Reporter, checked as checked_progress
+
+if TYPE_CHECKING:
+    from numpy.typing import DTypeLike
 
 FORMAT = "exactgeo-distance-matrix/1"
 DTYPES = ("float32", "float64")
@@ -69,6 +73,10 @@ StorePath = Union[str, "os.PathLike[str]"]
 _MISSING_EXTRA = ("exactgeo.distributed needs its extra, dask[distributed] and zarr: "
                   "pip install 'dask[distributed]>=2023.1' 'zarr>=3'")
 ZARR_FORMAT = 3
+# The blocks a run computes: each block's arguments to _compute_block after the context, by block index.
+_Tasks = dict[int, tuple[Any, ...]]
+# Called with a block's index once the block is done.
+_Finished = Callable[[int], None]
 
 
 # What a run returns and what a store holds.
@@ -183,13 +191,14 @@ def _beside(final: Path) -> Path:
     return final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
 
 
-def _write_atomically(final: Path, data: Union[str, bytes, np.ndarray]) -> None:
+def _write_atomically(final: Path, data: str | bytes | np.ndarray) -> None:
     """The file appears whole or not at all, its bytes on disk before it does: written beside its final name,
     synced, then renamed. An array is written from its own memory, without a copy."""
+    content = data.encode() if isinstance(data, str) else data.data if isinstance(data, np.ndarray) else data
     temporary = _beside(final)
     try:
         with open(temporary, "wb") as file:
-            file.write(data.encode() if isinstance(data, str) else data)
+            file.write(content)
             file.flush()
             os.fsync(file.fileno())
         os.replace(temporary, final)
@@ -234,14 +243,14 @@ def _remove_marker(path: Path, block: int) -> None:
         pass
 
 
-def _write_group(folder: Path, attributes: dict) -> None:
+def _write_group(folder: Path, attributes: dict[str, Any]) -> None:
     """A Zarr group at `folder` whose attributes are `attributes`: its metadata file written whole."""
     folder.mkdir(parents=True, exist_ok=True)
     _write_atomically(folder / "zarr.json", json.dumps(
         {"zarr_format": ZARR_FORMAT, "node_type": "group", "attributes": attributes}))
 
 
-def _write_marker(path: Path, block: int, record: dict) -> None:
+def _write_marker(path: Path, block: int, record: dict[str, Any]) -> None:
     """done/block_NNNNNN: a Zarr group whose attributes are `record`; its metadata file, renamed into place
     after the block's data is written, is the marker."""
     _write_group(path / "done" / _block_name(block), record)
@@ -260,7 +269,7 @@ def _done_blocks(path: Path, blocks: int) -> list[int]:
     return sorted(found)
 
 
-def _stored_settings(path: Path) -> Optional[dict]:
+def _stored_settings(path: Path) -> dict[str, Any] | None:
     """The store's "exactgeo" attribute, None if there is no store at `path`; ValueError if `path` holds
     something else."""
     if not path.exists():
@@ -298,14 +307,14 @@ def _stored_settings(path: Path) -> Optional[dict]:
     return settings
 
 
-def _describe(values: Optional[list], noun: str) -> str:
+def _describe(values: list[Any] | None, noun: str) -> str:
     if values is None:
         return f"every vertex as {noun}"
     head = ", ".join(map(str, values[:5])) + (", ..." if len(values) > 5 else "")
     return f"{len(values)} {noun} [{head}]"
 
 
-def _differences(stored: dict, wanted: dict, explicit_block_rows: bool) -> list[str]:
+def _differences(stored: dict[str, Any], wanted: dict[str, Any], explicit_block_rows: bool) -> list[str]:
     found = []
     if any(stored[key] != wanted[key] for key in ("mesh_sha256", "vertex_count", "face_count",
                                                   "weld_duplicate_positions")):
@@ -326,7 +335,8 @@ def _differences(stored: dict, wanted: dict, explicit_block_rows: bool) -> list[
     return found
 
 
-def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, targets: Optional[np.ndarray]) -> None:
+def _create_store(path: Path, settings: dict[str, Any], mesh: Mesh, sources: np.ndarray,
+                  targets: np.ndarray | None) -> None:
     root = _open_group(path, "w")
     rows, width = settings["shape"]
     if settings["max_distance"] is None:
@@ -339,10 +349,10 @@ def _create_store(path: Path, settings: dict, mesh: Mesh, sources: np.ndarray, t
     root.attrs["exactgeo"] = settings
 
 
-def _write_shared_arrays(path: Path, mesh: Mesh, sources: np.ndarray, targets: Optional[np.ndarray]) -> None:
+def _write_shared_arrays(path: Path, mesh: Mesh, sources: np.ndarray, targets: np.ndarray | None) -> None:
     """The arrays every block shares (the rows' and columns' vertices, the mesh), each built beside its place and
     renamed into it, so that one written again while other workers read it appears whole."""
-    arrays = {
+    arrays: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {
         "source": (sources.astype(np.int64), ("source",)),
         "target": ((np.arange(mesh.vertex_count) if targets is None else targets).astype(np.int64), ("target",)),
         "mesh/vertices": (np.array(mesh.vertices, dtype=np.float64), ("vertex", "xyz")),
@@ -354,7 +364,7 @@ def _write_shared_arrays(path: Path, mesh: Mesh, sources: np.ndarray, targets: O
                                  replace=True)
 
 
-def _damaged_shared_arrays(path: Path, settings: dict) -> tuple[str, ...]:
+def _damaged_shared_arrays(path: Path, settings: dict[str, Any]) -> tuple[str, ...]:
     """Why the arrays every block shares do not hold what `settings` record (one reason per array, naming its
     file): `source` and `target` the sources and targets (every vertex without targets), mesh/vertices and
     mesh/faces the mesh whose sha256 they record."""
@@ -387,7 +397,7 @@ def _damaged_shared_arrays(path: Path, settings: dict) -> tuple[str, ...]:
 _RAW_CODECS = [{"name": "bytes", "configuration": {"endian": "little"}}]
 
 
-def _read_json(path: Path) -> dict:
+def _read_json(path: Path) -> dict[str, Any]:
     """The JSON object in `path`; ValueError naming the file otherwise."""
     try:
         with open(path, "rb") as file:
@@ -444,7 +454,7 @@ def _read_bytes(path: Path) -> bytes:
         raise ValueError(f"{path} cannot be read: {error}") from None
 
 
-def _check_chunk_layout(path: Path, settings: dict) -> None:
+def _check_chunk_layout(path: Path, settings: dict[str, Any]) -> None:
     """Blocks write their chunk files themselves (_write_chunk) and verification reads them so: `distances` must be
     the array this module and the command make, (sources, targets) of the settings' dtype in chunks of block_rows
     rows, NaN where no block was written, uncompressed. ValueError naming what differs otherwise."""
@@ -470,7 +480,7 @@ class _Context:
     """What every block needs besides its rows: sent to each Dask worker once (scatter, broadcast)."""
 
     mesh: Mesh
-    targets: Optional[np.ndarray]
+    targets: np.ndarray | None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -488,7 +498,7 @@ _meshes: dict[str, Mesh] = {}  # per process: mesh hash -> the mesh, the last on
 _contexts: dict[_StoreReference, _Context] = {}  # per process: the last run's context
 
 
-def _context_of(context: Union[_Context, _StoreReference]) -> _Context:
+def _context_of(context: _Context | _StoreReference) -> _Context:
     if isinstance(context, _Context):
         return context
     if context not in _contexts:
@@ -512,8 +522,8 @@ def _context_of(context: Union[_Context, _StoreReference]) -> _Context:
     return _contexts[context]
 
 
-def _compute_block(context: Union[_Context, _StoreReference], store: str, block: int, rows: tuple[int, int],
-                   sources: np.ndarray, options: dict) -> dict:
+def _compute_block(context: _Context | _StoreReference, store: str, block: int, rows: tuple[int, int],
+                   sources: np.ndarray, options: dict[str, Any]) -> dict[str, Any]:
     """Computes rows [rows[0], rows[1]) (block `block`), writes them into the store, then the block's marker."""
     from ._many_sources import distance_matrix, fill_distance_matrix
 
@@ -536,7 +546,7 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
         fill_distance_matrix(values, context.mesh, sources, targets=context.targets, threads=options["threads"])
         little_endian = chunk.astype(dtype.newbyteorder("<"), copy=False)  # no copy on little-endian hosts
         _write_chunk(path, block, little_endian)
-        digest.update(little_endian[:len(values)])
+        digest.update(little_endian[:len(values)].data)
     else:
         matrix = distance_matrix(context.mesh, sources, targets=context.targets, max_distance=max_distance,
                                  threads=options["threads"])
@@ -544,7 +554,7 @@ def _compute_block(context: Union[_Context, _StoreReference], store: str, block:
                   "indices": np.ascontiguousarray(matrix.indices.astype(np.uint32, copy=False)),
                   "indptr": np.ascontiguousarray(matrix.indptr.astype(np.int64, copy=False))}
         for values in pieces.values():
-            digest.update(values)
+            digest.update(values.data)
 
         def build(folder: Path) -> None:
             _open_group(folder, "w")
@@ -580,7 +590,7 @@ def _vertices(values: object, mesh: Mesh, what: str) -> np.ndarray:
     return array
 
 
-def _dtype_name(dtype: object) -> str:
+def _dtype_name(dtype: DTypeLike) -> str:
     """"float32" or "float64", from their names or numpy's types; ValueError naming what was given otherwise."""
     try:
         name = str(np.dtype(dtype)) if dtype is not None else None
@@ -601,9 +611,9 @@ def distance_matrix_to_zarr(
     store: StorePath,
     *,
     targets: object = None,
-    max_distance: Optional[float] = None,
-    dtype: str = "float32",
-    block_rows: Optional[int] = None,
+    max_distance: float | None = None,
+    dtype: DTypeLike = "float32",
+    block_rows: int | None = None,
     client: Any = None,
     resume: bool = True,
     progress: Progress = False,
@@ -730,7 +740,7 @@ def distance_matrix_to_zarr(
     return MatrixRun(str(path), blocks, tuple(sorted(todo)), tuple(done))
 
 
-def _dask_client_type() -> Optional[type]:
+def _dask_client_type() -> type | None:
     try:
         from distributed import Client
     except ImportError:
@@ -752,7 +762,7 @@ _UNHURRIED_HOUSEKEEPING = {
 }
 
 
-def local_cluster(workers: Optional[int] = None) -> Any:
+def local_cluster(workers: int | None = None) -> Any:
     """The LocalCluster distance_matrix_to_zarr starts when given no client: `workers` single-threaded worker
     processes (default: one per core) on 127.0.0.1, no dashboard, Dask's housekeeping slowed to once a second
     so that it takes little from the blocks. Use it as a context manager, with a Client on it, to run several
@@ -789,7 +799,8 @@ def _check_client(client: Any) -> None:
                         f"not {type(client).__name__}")
 
 
-def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference, retries: int, finished) -> None:
+def _run(client: Any, tasks: _Tasks, context: _Context, reference: _StoreReference, retries: int,
+         finished: _Finished) -> None:
     if client is None:
         try:
             from distributed import Client
@@ -803,7 +814,7 @@ def _run(client: Any, tasks: dict, context: _Context, reference: _StoreReference
         _run_executor(client, tasks, reference, retries, finished)
 
 
-def _run_dask(client: Any, tasks: dict, context: _Context, retries: int, finished) -> None:
+def _run_dask(client: Any, tasks: _Tasks, context: _Context, retries: int, finished: _Finished) -> None:
     from distributed import as_completed
 
     shared = client.scatter(context, broadcast=True, hash=False)  # the mesh goes to each worker once
@@ -822,8 +833,8 @@ def _run_dask(client: Any, tasks: dict, context: _Context, retries: int, finishe
         raise
 
 
-def _run_executor(executor: concurrent.futures.Executor, tasks: dict, reference: _StoreReference, retries: int,
-                  finished) -> None:
+def _run_executor(executor: concurrent.futures.Executor, tasks: _Tasks, reference: _StoreReference, retries: int,
+                  finished: _Finished) -> None:
     attempts = {block: 0 for block in tasks}
     pending = {executor.submit(_compute_block, reference, *arguments): block for block, arguments in tasks.items()}
     try:
@@ -871,7 +882,7 @@ def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
                        settings["block_rows"], settings["blocks"], tuple(done), missing, corrupt, damaged)
 
 
-def _marker_record(path: Path, block: int) -> Optional[dict]:
+def _marker_record(path: Path, block: int) -> object:
     try:
         with open(path / "done" / _block_name(block) / "zarr.json") as file:
             return json.load(file).get("attributes")
@@ -879,7 +890,7 @@ def _marker_record(path: Path, block: int) -> Optional[dict]:
         return None
 
 
-def _block_intact(path: Path, settings: dict, block: int) -> bool:
+def _block_intact(path: Path, settings: dict[str, Any], block: int) -> bool:
     """The block's marker records its rows and the store's max_distance (which no other file repeats), and its data
     hashes to the sha256 the marker recorded."""
     record = _marker_record(path, block)
@@ -902,10 +913,11 @@ def _block_intact(path: Path, settings: dict, block: int) -> bool:
                 digest.update(_whole_array(group / name, data_type, 1).tobytes())
     except ValueError:  # a chunk or piece that cannot be read as it was written is not intact either
         return False
-    return digest.hexdigest() == record["sha256"]
+    recorded: object = record["sha256"]
+    return digest.hexdigest() == recorded
 
 
-def read_sparse(store: StorePath, rows: Union[slice, range, None] = None) -> Any:
+def read_sparse(store: StorePath, rows: slice | range | None = None) -> Any:
     """The sparse matrix of a store made with max_distance, as a scipy.sparse.csr_array: all rows, or
     `rows` (a slice or range with step 1), reading only the blocks that hold them. ValueError naming the
     blocks not done if some are needed."""

@@ -86,7 +86,8 @@ def kirsanov_targets(package: str, vertices: np.ndarray, faces: np.ndarray, sour
             vertices, faces.astype(np.int32), source_indices=np.asarray(sources, dtype=np.int32),
             target_indices=np.asarray(targets, dtype=np.int32), max_distance=cutoff,
         )
-    geodesic = pytest.importorskip("pygeodesic.geodesic", reason="pygeodesic not installed (python/requirements-test.txt)")
+    geodesic = pytest.importorskip("pygeodesic.geodesic",
+                                   reason="pygeodesic not installed (python/requirements-test.txt)")
     distances, _ = geodesic.PyGeodesicAlgorithmExact(vertices, faces.astype(np.int32)).geodesicDistances(
         np.asarray(sources), np.asarray(targets), cutoff
     )

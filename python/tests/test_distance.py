@@ -366,7 +366,8 @@ def test_targets_beyond_the_cut_off_are_inf_or_exact():
     assert nearest.tolist() == [0] * len(targets)
     # Without targets or without a cut-off the option changes nothing.
     np.testing.assert_array_equal(
-        exactgeo.distance(mesh, 0, max_distance=cutoff, targets_beyond="exact"), exactgeo.distance(mesh, 0, max_distance=cutoff)
+        exactgeo.distance(mesh, 0, max_distance=cutoff, targets_beyond="exact"),
+        exactgeo.distance(mesh, 0, max_distance=cutoff),
     )
     np.testing.assert_array_equal(exactgeo.distance(mesh, 0, targets=targets, targets_beyond="exact"), truth)
     with pytest.raises(ValueError, match="targets_beyond must be 'inf' or 'exact', not 'all'"):

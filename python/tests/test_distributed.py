@@ -27,7 +27,7 @@ except ImportError:
                 allow_module_level=True)
 zarr3_or_skip()  # dask is there; zarr must be version 3
 
-from exactgeo import distributed
+from exactgeo import distributed  # noqa: E402 (after the skip above, which needs zarr 3)
 
 
 def two_tori() -> exactgeo.Mesh:
@@ -281,7 +281,8 @@ def test_the_local_cluster_slows_only_its_own_workers_housekeeping(client):
     import dask
 
     def settings():
-        return (dask.config.get("distributed.admin.tick.interval"), dask.config.get("distributed.worker.profile.enabled"),
+        return (dask.config.get("distributed.admin.tick.interval"),
+                dask.config.get("distributed.worker.profile.enabled"),
                 dask.config.get("distributed.worker.memory.monitor-interval"))
 
     slowed = {("1s", False, "1s")}

@@ -11,8 +11,9 @@ Conventions (for whoever writes docs):
 - The blocks of one page run in order, one program per language, so a later block may use what an earlier
   one made:
   - Python: the page's blocks are one script file, run by this Python in a fresh process (`python
-    recipes_md.py` for recipes.md), as a reader who pastes them into a file runs them. Its `__name__` is `"__main__"` and worker processes
-    (Dask's, multiprocessing's) import it again, so code that starts them needs the
+    recipes_md.py` for recipes.md), as a reader who pastes them into a file runs them. Its `__name__` is
+    `"__main__"` and worker processes (Dask's, multiprocessing's) import it again, so code that starts them
+    needs the
     `if __name__ == "__main__":` guard there as it does in the reader's file. Each line of the script sits
     at its line number in the page, so a traceback names the page's line.
   - Shell: each block in bash (`-euo pipefail`), all in one folder.

@@ -36,7 +36,8 @@ def test_above_a_flat_grid_the_closest_point_is_straight_below(flat):
 def test_beyond_the_border_the_closest_point_is_on_it(flat):
     points, distances = exactgeo.locate(flat, [[-1.0, 0.5, 0.0], [3.0, 2.25, 0.0], [1.0, -0.5, 2.0]])
     np.testing.assert_allclose(distances, [1.0, np.sqrt(2.0), np.sqrt(0.25 + 4)], rtol=1e-15)
-    np.testing.assert_allclose(exactgeo.point_position(flat, points), [[0, 0.5, 0], [2, 1.25, 0], [1, 0, 0]], atol=1e-15)
+    np.testing.assert_allclose(exactgeo.point_position(flat, points), [[0, 0.5, 0], [2, 1.25, 0], [1, 0, 0]],
+                               atol=1e-15)
 
 
 def test_points_on_the_surface_are_found_where_they_are(sheet):
@@ -56,7 +57,8 @@ def test_located_points_are_valid_and_no_farther_than_any_vertex(sheet):
     assert np.all((points.faces >= 0) & (points.faces < sheet.face_count))
     assert np.all((points.barycentric >= 0) & (points.barycentric <= 1))
     np.testing.assert_allclose(points.barycentric.sum(axis=1), 1, rtol=0, atol=1e-15)
-    np.testing.assert_allclose(np.linalg.norm(xyz - exactgeo.point_position(sheet, points), axis=1), distances, rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(xyz - exactgeo.point_position(sheet, points), axis=1), distances,
+                               rtol=1e-14)
     nearest_vertex = np.linalg.norm(xyz[:, None, :] - sheet.vertices[None, :, :], axis=2).min(axis=1)
     assert np.all(distances <= nearest_vertex * (1 + 1e-15))
 

@@ -28,7 +28,8 @@ def large():
 
 def test_a_progress_function_hears_the_work_up_to_its_end(sheet, large):
     reports: list[tuple[int, int]] = []
-    exactgeo.distance_matrix(sheet, list(range(40)), threads=2, progress=lambda done, total: reports.append((done, total)))
+    exactgeo.distance_matrix(sheet, list(range(40)), threads=2,
+                             progress=lambda done, total: reports.append((done, total)))
     assert reports and reports[-1] == (40, 40)
     assert all(total == 40 for _, total in reports) and [d for d, _ in reports] == sorted(d for d, _ in reports)
 

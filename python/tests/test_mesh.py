@@ -170,7 +170,8 @@ SQUARE = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]
         (SQUARE, [["0", "1", "2"]], "faces must be integer indices, not dtype <U1"),
         (SQUARE, [[0, 1]], r"faces must have shape \(n, 3\), not \(1, 2\)"),
         (SQUARE, [0, 1, 2], r"faces must have shape \(n, 3\), not \(3,\)"),
-        ([[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], [[0, 1, 2]], r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3, 4\)"),
+        ([[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], [[0, 1, 2]],
+         r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3, 4\)"),
         ([0, 0, 1], [[0, 1, 2]], r"vertices must have shape \(n, 3\), or \(n, 2\) for z = 0, not \(3,\)"),
         ([[0, 0], [1, 0], [0, 1j]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
         ([[0, 0, 1j], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], "vertices must be real numbers, not dtype complex128"),
@@ -272,7 +273,8 @@ def test_seams_that_cut_the_surface_are_pointed_out_with_the_fix(tmp_path):
     # Each way into the solver warns at this file's line, not at exactgeo's.
     mesh = exactgeo.Mesh(vertices, faces)
     for call in (lambda: exactgeo.distance(mesh, 0), lambda: exactgeo.GeodesicSolver(mesh).solve(0)):
-        with pytest.warns(UserWarning, match=r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True") as caught:
+        unreachable = r"3 of 6 vertices are unreachable.*weld_duplicate_positions=True"
+        with pytest.warns(UserWarning, match=unreachable) as caught:
             call()
         assert [w.filename for w in caught] == [__file__]
     import warnings

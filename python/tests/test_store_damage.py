@@ -25,7 +25,7 @@ import subprocess
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 import pytest
@@ -35,7 +35,7 @@ import exactgeo
 
 zarr = zarr3_or_skip()
 
-from exactgeo import distributed
+from exactgeo import distributed  # noqa: E402 (after the skip above, which needs zarr 3)
 
 GRID = "@grid:4:4"
 MESH = exactgeo.Mesh(*exactgeo.make_grid(4, 4, 4, 4))  # what GRID generates
@@ -99,7 +99,7 @@ class Pristine:
             wanted = [wanted.data.astype(np.float32), wanted.indices, wanted.indptr] if sparse else [wanted]
             assert all(map(np.array_equal, self.values[f"block {block}"], wanted)), block
 
-    def read(self, store: Path, part: str) -> Optional[list[Any]]:
+    def read(self, store: Path, part: str) -> list[Any] | None:
         """The part's values as a reader gets them through zarr; None if they cannot be read."""
         try:
             if part == "settings":
@@ -219,7 +219,7 @@ def damage(store: Path, file: str, how: str, detail: Any) -> None:
 # The checks.
 
 
-def command_status(store: Path) -> tuple[Optional[set[int]], bool, str]:
+def command_status(store: Path) -> tuple[set[int] | None, bool, str]:
     """`matrix --status --verify`: the blocks it calls done and whether it calls the store complete, or None and the
     error it stopped with."""
     shown = subprocess.run([str(CLI), "matrix", "--status", str(store), "--verify"], capture_output=True, text=True)
