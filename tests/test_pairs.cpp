@@ -133,6 +133,38 @@ TEST_P(PairsTest, EqualTargetsModeRunsOnGeneratedMeshes) {
   }
 }
 
+// Seeded random meshes, turned at random: smooth and noisy fields, jittered grids with holes, books (non-manifold
+// spines cut apart) and sheets with a fin; a failing mesh is named by its seed.
+TEST_P(PairsTest, EqualTargetsModeRunsOnSeededRandomMeshes) {
+  for (std::uint64_t seed = 1; seed <= 25; ++seed) {
+    Random random(seed);
+    MeshSoup soup;
+    switch (seed % 5) {
+      case 0:
+      case 1: {
+        const int nx = 3 + static_cast<int>(random.below(8)), ny = 3 + static_cast<int>(random.below(8));
+        soup = exactgeo_test::random_height_field(random, nx, ny, random.uniform(0.01, 0.8), seed % 5 == 0);
+        break;
+      }
+      case 2: {
+        const int nx = 6 + static_cast<int>(random.below(5)), ny = 6 + static_cast<int>(random.below(5));
+        soup = exactgeo_test::random_grid_with_holes(random, nx, ny, 1 + static_cast<int>(random.below(3)));
+        break;
+      }
+      case 3:
+        soup = exactgeo_test::random_book(random, 3).soup;
+        break;
+      default:
+        soup = exactgeo_test::random_sheet_with_fin(random);
+    }
+    const Mesh mesh(exactgeo_test::randomly_rotated(std::move(soup), random));
+    const Pairs pairs = random_pairs(mesh, random, 8);
+    const auto result = exactgeo::pair_distances(mesh, pairs.a, pairs.b, {.geodesic = GetParam(), .threads = 1});
+    EXPECT_TRUE(exactgeo_test::distances_match(result.distances, targets_mode(mesh, pairs, GetParam()), kExact))
+        << "seed " << seed << ", " << exactgeo_test::variant_label(GetParam());
+  }
+}
+
 TEST_P(PairsTest, FlatPolygonDistancesAreStraightLines) {
   Random random(77);
   for (int polygon = 0; polygon < 4; ++polygon) {
