@@ -30,5 +30,6 @@ Command add_sample_command(CLI::App& app);
 Command add_matrix_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_locate_command(CLI::App& app);
+Command add_pairs_command(CLI::App& app);
 
 }  // namespace exactgeo::cli

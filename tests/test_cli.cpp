@@ -96,23 +96,6 @@ TEST_F(Cli, UnwritableOutputIsInvalidInput) {
   expect_error(run("distance @icosphere:1 --source 0 --out " + arg("missing-dir/d.txt")), 2, "missing-dir/d.txt");
 }
 
-// A .npy file of `values` stored as `descr` ("<i2", ">u8", "|u1", ...), laid out as numpy.save lays it: the
-// preamble, the header padded to 64 bytes, then each value's low bytes in the descr's byte order.
-std::string npy_file(const std::string& descr, const std::vector<std::int64_t>& values, std::string shape = "") {
-  if (shape.empty()) shape = "(" + std::to_string(values.size()) + ",)";
-  std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }";
-  header.append((64 - (10 + header.size() + 1) % 64) % 64, ' ');
-  header += '\n';
-  std::string bytes =
-      std::string("\x93NUMPY\x01\x00", 8) + char(header.size() & 0xff) + char(header.size() >> 8) + header;
-  const bool big_endian = descr[0] == '>';
-  const std::size_t size = std::stoul(descr.substr(2));
-  for (const std::int64_t value : values)
-    for (std::size_t k = 0; k < size; ++k)
-      bytes += char(static_cast<std::uint64_t>(value) >> (8 * (big_endian ? size - 1 - k : k)));
-  return bytes;
-}
-
 // Whether a message holds only printable ASCII and newlines: nothing of a binary file reaches the terminal.
 bool printable(const std::string& message) {
   return std::all_of(message.begin(), message.end(), [](char c) { return c == '\n' || (c >= 0x20 && c < 0x7f); });

@@ -150,4 +150,21 @@ inline constexpr const char* kSeamObj =
     "v 5 5 5\n"
     "f 1 2 3\nf 4 6 5\n";
 
+// A .npy file of `values` stored as `descr` ("<i2", ">u8", "|u1", ...), laid out as numpy.save lays it: the
+// preamble, the header padded to 64 bytes, then each value's low bytes in the descr's byte order.
+inline std::string npy_file(const std::string& descr, const std::vector<std::int64_t>& values, std::string shape = "") {
+  if (shape.empty()) shape = "(" + std::to_string(values.size()) + ",)";
+  std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }";
+  header.append((64 - (10 + header.size() + 1) % 64) % 64, ' ');
+  header += '\n';
+  std::string bytes =
+      std::string("\x93NUMPY\x01\x00", 8) + char(header.size() & 0xff) + char(header.size() >> 8) + header;
+  const bool big_endian = descr[0] == '>';
+  const std::size_t size = std::stoul(descr.substr(2));
+  for (const std::int64_t value : values)
+    for (std::size_t k = 0; k < size; ++k)
+      bytes += char(static_cast<std::uint64_t>(value) >> (8 * (big_endian ? size - 1 - k : k)));
+  return bytes;
+}
+
 }  // namespace exactgeo_test
