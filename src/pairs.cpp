@@ -23,7 +23,7 @@ std::vector<detail::LocatedPoint> locate_pair_points(const detail::SurfaceMesh& 
   std::vector<detail::LocatedPoint> located;
   located.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
-    located.push_back(detail::locate(surface, points[i], std::string(side) + " " + std::to_string(i)));
+    located.push_back(detail::locate_checked(surface, points[i], std::string(side) + " " + std::to_string(i)));
   return located;
 }
 
