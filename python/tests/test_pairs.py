@@ -45,7 +45,10 @@ def test_a_list_may_mix_points_and_vertices(sheet):
     point = exactgeo.SurfacePoint(5, (0.2, 0.3, 0.5))
     mixed = exactgeo.pair_distances(sheet, [point, 7], [9, point])
     np.testing.assert_array_equal(
-        mixed, exactgeo.pair_distances(sheet, [point, exactgeo.vertex_point(sheet, 7)], [exactgeo.vertex_point(sheet, 9), point])
+        mixed,
+        exactgeo.pair_distances(
+            sheet, [point, exactgeo.vertex_point(sheet, 7)], [exactgeo.vertex_point(sheet, 9), point]
+        ),
     )
     assert exactgeo.pair_distances(sheet, [point], [point])[0] == 0.0
 
