@@ -31,6 +31,7 @@
 #include <mutex>
 
 #include "assert.hpp"
+#include "face_windows.hpp"
 #include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
@@ -261,6 +262,7 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
     const PhaseTimer timer(options_.collect_timings, scratch.stats.pruning_seconds);
     incoming = incoming.first(prune_list(incoming, tolerances_));
   }
+  if (kept_windows_) keep_entering(h, incoming, thread);
   // The face entered in this band or before: no thread changes its visit any more.
   const bool prime = std::atomic_ref<std::uint32_t>(face_visited_at_[face_of(h)]).load(std::memory_order_relaxed) == iteration_;
   ApexReach reach;

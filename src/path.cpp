@@ -11,6 +11,7 @@
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
 #include "assert.hpp"
+#include "face_windows.hpp"
 #include "surface_point.hpp"
 #include "tolerances.hpp"
 #include "vtp_engine.hpp"
@@ -349,6 +350,20 @@ GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
   return path;
 }
 
+namespace {
+
+// The path to `point`, a point of the last run's surface inside a face or on an edge, whose last straight
+// piece `arrival` describes.
+GeodesicPath trace_to_point(const Mesh& mesh, const detail::VtpEngine& engine, const detail::LocatedPoint& point,
+                            const detail::Arrival& arrival) {
+  PathPointLocation location;
+  location.kind = PathPointLocation::Kind::face;
+  location.face_point = {mesh.surface().surface_face_to_input[point.face], point.barycentric};
+  return detail::PathBuilder(mesh, engine).trace(point_position(mesh, location.face_point), location, arrival);
+}
+
+}  // namespace
+
 GeodesicPath GeodesicSolver::path_to_target(std::size_t target) const {
   if (target >= result_.target_distances.size())
     throw Error(ErrorCode::invalid_argument, "target " + std::to_string(target) + " is out of range (the last run had " +
@@ -358,13 +373,21 @@ GeodesicPath GeodesicSolver::path_to_target(std::size_t target) const {
   // its distance.
   if (point.vertex != detail::kNone) return path_to_vertex(mesh_->surface().surface_to_input[point.vertex]);
   if (std::isinf(result_.target_distances[target])) return {};
-  PathPointLocation location;
-  location.kind = PathPointLocation::Kind::face;
-  location.face_point = {mesh_->surface().surface_face_to_input[point.face], point.barycentric};
-  GeodesicPath path = detail::PathBuilder(*mesh_, *engine_)
-                          .trace(point_position(*mesh_, location.face_point), location,
-                                 engine_->target_arrivals()[target]);
+  GeodesicPath path = trace_to_point(*mesh_, *engine_, point, engine_->target_arrivals()[target]);
   path.source = result_.target_nearest_source[target];
+  return path;
+}
+
+GeodesicPath GeodesicSolver::path_to_point(const SurfacePoint& surface_point) const {
+  const detail::FaceWindows& kept = kept_windows("path_to_point");
+  const detail::SurfaceMesh& surface = mesh_->surface();
+  const detail::LocatedPoint point = detail::locate(surface, surface_point, "point");
+  if (point.vertex != detail::kNone) return path_to_vertex(surface.surface_to_input[point.vertex]);
+  detail::Arrival arrival;
+  const double d = kept.reach(surface, engine_->distances(), point, arrival);
+  if (std::isinf(d) || d > engine_->cutoff()) return {};  // unreached, or beyond the cut-off
+  GeodesicPath path = trace_to_point(*mesh_, *engine_, point, arrival);
+  path.source = engine_->label_of(arrival.from);
   return path;
 }
 
