@@ -10,9 +10,9 @@
 namespace exactgeo::detail {
 namespace {
 
-// Whether every point of the face that window w (on h, of length `edge_length`) reaches is reached at least
-// as short from a corner of h at distance `tail_distance` or `head_distance` (final, or still an upper
-// bound during the run), by more than `slack`, or lies beyond `cutoff`. Through w, the distance to a point
+// Whether window w (on h, of length `edge_length`) is useless in its face: a corner of h, at distance
+// `tail_distance` or `head_distance` (final, or still an upper bound during the run), reaches every point
+// that w reaches shorter by more than `slack`, or all those points lie beyond `cutoff`. Through w, the distance to a point
 // q of the face whose ray crosses h at x is w(x) + |xq|; from h's tail A it is at most d(A) + |Aq| <=
 // d(A) + x + |xq|. w(x) - x never grows with x (its slope is (x - px) / |x - p| - 1 <= 0), so w(b1) - b1
 // >= d(A) means w(x) >= d(A) + x on the whole window: A beats w everywhere. The mirror image holds for the
@@ -28,93 +28,33 @@ bool beaten_by_corners(const Window& w, double edge_length, double tail_distance
 
 }  // namespace
 
-void FaceWindows::start(unsigned threads) {
-  kept_ = false;
-  logs_.clear();
-  logs_.resize(threads);
-  offsets_.clear();
-  windows_.clear();
-  face_sources_.clear();
-}
-
 void FaceWindows::record(const SurfaceMesh& mesh, std::uint32_t h, std::span<const Window> list, double tail_distance,
                          double head_distance, double cutoff, const Tolerances& tolerances, unsigned thread) {
-  Log& log = logs_[thread];
   const double edge_length = mesh.halfedges[h].length;
-  std::uint32_t logged = 0;
+  const std::span<Window> kept = lists_.extend(h, list.size(), thread);
+  std::size_t size = kept.size() - list.size();
   for (const Window& w : list)
-    if (!beaten_by_corners(w, edge_length, tail_distance, head_distance, cutoff, tolerances.prune)) {
-      log.push(w);
-      ++logged;
-    }
-  if (logged > 0) log.crossings.push_back({h, logged});
+    if (!beaten_by_corners(w, edge_length, tail_distance, head_distance, cutoff, tolerances.prune)) kept[size++] = w;
+  lists_.shrink_to(h, size, thread);
 }
 
 void FaceWindows::finish(const SurfaceMesh& mesh, std::span<const double> vertex_distance, double cutoff,
                          std::span<const SourceSite> sources, const Tolerances& tolerances) {
-  // Group by halfedge without a second copy of the windows (the log is most of a keeping run's memory): a
-  // count per halfedge and its prefix sums give every logged window its slot, the logs are permuted into
-  // slot order where they lie, then moved into one array a chunk at a time, each chunk given back once read.
-  const std::size_t halfedge_count = mesh.halfedges.size();
-  offsets_.assign(halfedge_count + 1, 0);
-  for (const Log& log : logs_)
-    for (const Crossing& c : log.crossings) offsets_[c.halfedge + 1] += c.count;
-  for (std::size_t h = 0; h < halfedge_count; ++h) offsets_[h + 1] += offsets_[h];
-  const std::size_t total = offsets_.back();
-  std::vector<std::uint32_t> slot;
-  slot.reserve(total);
-  {
-    std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
-    for (const Log& log : logs_)
-      for (const Crossing& c : log.crossings)
-        for (std::uint32_t i = 0; i < c.count; ++i) slot.push_back(fill[c.halfedge]++);
-  }
-  // Logged window i (the logs one after another) lies in its log's chunk i / kChunkWindows.
-  std::vector<std::size_t> log_starts;
-  for (std::size_t start = 0; const Log& log : logs_) {
-    log_starts.push_back(start);
-    start += log.chunks.empty() ? 0 : (log.chunks.size() - 1) * kChunkWindows + log.last_chunk_size;
-  }
-  const auto logged = [&](std::size_t i) -> Window& {
-    std::size_t t = logs_.size() - 1;
-    while (log_starts[t] > i) --t;
-    const std::size_t j = i - log_starts[t];
-    return logs_[t].chunks[j / kChunkWindows][j % kChunkWindows];
-  };
-  for (std::size_t i = 0; i < total; ++i)
-    while (slot[i] != i) {  // each swap puts one window in its slot
-      const std::uint32_t j = slot[i];
-      std::swap(logged(i), logged(j));
-      std::swap(slot[i], slot[j]);
-    }
-  slot = {};
-  windows_.clear();
-  windows_.reserve(total);
-  for (Log& log : logs_)
-    for (std::size_t k = 0; k < log.chunks.size(); ++k) {
-      const std::size_t size = k + 1 == log.chunks.size() ? log.last_chunk_size : kChunkWindows;
-      windows_.insert(windows_.end(), log.chunks[k].get(), log.chunks[k].get() + size);
-      log.chunks[k].reset();
-    }
-  logs_.clear();
   // Now that every distance is final, drop what the corners beat, then what another window that entered
   // through the same halfedge beats (Rule 2 over the lists of every crossing: its pruning holds for every
-  // point beyond the edge, the face's inside included). Kept windows move to the front, in order.
-  std::uint32_t kept = 0;
-  for (std::uint32_t h = 0; h < halfedge_count; ++h) {
-    const std::uint32_t begin = offsets_[h], end = offsets_[h + 1];
-    offsets_[h] = kept;
-    const std::uint32_t first = kept;
+  // point beyond the edge, the face's inside included).
+  for (std::uint32_t h = 0; h < mesh.halfedges.size(); ++h) {
+    const std::span<Window> windows = lists_.edit(h);
     const double edge_length = mesh.halfedges[h].length;
-    for (std::uint32_t i = begin; i < end; ++i)
-      if (!beaten_by_corners(windows_[i], edge_length, vertex_distance[mesh.tail(h)], vertex_distance[mesh.head(h)],
-                             cutoff, tolerances.prune))
-        windows_[kept++] = windows_[i];
-    if (kept - first > 1)
-      kept = first + static_cast<std::uint32_t>(prune_list(std::span(windows_).subspan(first, kept - first), tolerances));
+    std::size_t size = 0;
+    for (const Window& w : windows)
+      if (!beaten_by_corners(w, edge_length, vertex_distance[mesh.tail(h)], vertex_distance[mesh.head(h)], cutoff,
+                             tolerances.prune))
+        windows[size++] = w;
+    if (size > 1) size = prune_list(windows.first(size), tolerances);
+    lists_.shrink_to(h, size, 0);
+    window_count_ += size;
   }
-  offsets_[halfedge_count] = kept;
-  windows_.resize(kept);  // not shrunk to fit: a copy would hold both at once for a few percent
 
   for (std::uint32_t i = 0; i < sources.size(); ++i) {
     const LocatedPoint& point = sources[i].point;
@@ -127,8 +67,8 @@ void FaceWindows::finish(const SurfaceMesh& mesh, std::span<const double> vertex
   kept_ = true;
 }
 
-std::uint64_t FaceWindows::bytes() const {
-  return windows_.capacity() * sizeof(Window) + offsets_.capacity() * sizeof(std::uint32_t) +
+std::uint64_t FaceWindows::bytes(std::size_t halfedge_count) const {
+  return lists_.arena_bytes() + halfedge_count * sizeof(WindowLists::List) +
          face_sources_.capacity() * sizeof(FaceSource);
 }
 

@@ -158,7 +158,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   register_targets(targets);
   if (options.keep_windows) {
     if (!kept_windows_) kept_windows_ = std::make_unique<FaceWindows>();
-    kept_windows_->start(threads_);
+    kept_windows_->start(mesh_.halfedges.size(), threads_,
+                         [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
   } else {
     kept_windows_.reset();  // an ordinary run keeps nothing
   }
@@ -193,7 +194,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   if (kept_windows_) {
     kept_windows_->finish(mesh_, distance_, cutoff_, sources_, tolerances_);
     stats_.kept_windows = kept_windows_->window_count();
-    stats_.kept_window_bytes = kept_windows_->bytes();
+    stats_.kept_window_bytes = kept_windows_->bytes(mesh_.halfedges.size());
   }
 }
 
