@@ -178,7 +178,7 @@ std::vector<double> GeodesicSolver::distance_at(std::span<const SurfacePoint> po
   const double cutoff = engine_->cutoff();
   const std::vector<detail::LocatedPoint> located = locate_all(surface, points, "point");
   // Answered face by face: a face's windows are read from memory once for all its points, which on a large
-  // mesh is most of a query's time (random points on nefertiti: about 4x faster than in the caller's order).
+  // mesh is most of a query's time (random points on nefertiti: 3.7x faster than in the caller's order).
   std::vector<std::uint64_t> by_face(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) by_face[i] = std::uint64_t{located[i].face} << 32 | i;
   std::sort(by_face.begin(), by_face.end());
