@@ -191,7 +191,7 @@ int run_distance(const DistanceArguments& arguments) {
   }
   const std::vector<exactgeo::SurfacePoint> query_points =
       arguments.query_points.empty() ? std::vector<exactgeo::SurfacePoint>()
-                                     : read_targets(arguments.query_points, mesh, "--query-points");
+                                     : read_targets(arguments.query_points, mesh, "--query-points", "point");
   // --targets-beyond exact: the run goes on until every target is final, whatever the cut-off; the cut-off
   // then applies to the vertex distances alone.
   const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";

@@ -494,6 +494,8 @@ TEST_F(Cli, QueryPointsAgreeWithTargets) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("point 5"), std::string::npos) << result.out;
   expect_error(run(from_source + "--query-points 9999 --query-out " + arg("q.npy")), 2, "9999");
+  expect_error(run(from_source + "--query-points 5:0.5,x --query-out " + arg("q.npy")), 2,
+               "point '5:0.5,x' is not a surface point");
 }
 
 TEST_F(Cli, PointSourcesTargetsAndLabelsOnAFlatGrid) {
