@@ -146,7 +146,7 @@ exactgeo::SurfacePoint listed_vertex_point(const exactgeo::Mesh& mesh, std::uint
 }  // namespace
 
 std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
-                                                  const std::string& origin) {
+                                                  const std::string& origin, std::string_view element) {
   std::vector<exactgeo::SurfacePoint> targets;
   std::string entry;
   std::istringstream entries(text);
@@ -157,7 +157,8 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
       if (part.find(':') != std::string::npos) {
         const auto point = parse_surface_point(part);
         if (!point)
-          throw invalid_argument(origin + ": target " + token_text(part) + " is not a surface point F:b0,b1,b2");
+          throw invalid_argument(origin + ": " + std::string(element) + " " + token_text(part) +
+                                 " is not a surface point F:b0,b1,b2");
         targets.push_back(*point);
         continue;
       }
@@ -165,13 +166,13 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
       for (std::string index; std::getline(vertices, index, ',');) {
         const auto v = parse_vertex(index);
         if (!v)
-          throw invalid_argument(origin + ": target " + token_text(index) +
+          throw invalid_argument(origin + ": " + std::string(element) + " " + token_text(index) +
                                  " is neither a vertex index nor a point F:b0,b1,b2");
         targets.push_back(listed_vertex_point(mesh, *v, origin));
       }
     }
   }
-  if (targets.empty()) throw invalid_argument(origin + ": no target given");
+  if (targets.empty()) throw invalid_argument(origin + ": no " + std::string(element) + " given");
   return targets;
 }
 
@@ -365,14 +366,15 @@ std::vector<std::uint32_t> read_vertex_list(const std::vector<std::string>& argu
 }
 
 std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
-                                                 const exactgeo::Mesh& mesh, const std::string& option) {
+                                                 const exactgeo::Mesh& mesh, const std::string& option,
+                                                 std::string_view element) {
   std::vector<exactgeo::SurfacePoint> targets;
   for (const std::string& argument : arguments) {
     const ListInput input = read_list_input(argument, option);
     if (input.npy || vertex_column(input.bytes)) {
       for (std::uint32_t v : checked_vertices(input, mesh)) targets.push_back(exactgeo::vertex_point(mesh, v));
     } else {
-      const std::vector<exactgeo::SurfacePoint> listed = parse_targets(input.bytes, mesh, input.origin);
+      const std::vector<exactgeo::SurfacePoint> listed = parse_targets(input.bytes, mesh, input.origin, element);
       targets.insert(targets.end(), listed.begin(), listed.end());
     }
   }

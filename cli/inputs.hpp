@@ -77,14 +77,16 @@ const exactgeo::GeodesicResult& solve(exactgeo::GeodesicSolver& solver, const So
 inline constexpr std::string_view kStandardInput = "-";
 
 // Targets: entries separated by spaces, newlines or ';', each a point F:b0,b1,b2 or vertex indices separated
-// by commas. `text` is the argument itself or a file's contents; `origin` names it in messages.
+// by commas. `text` is the argument itself or a file's contents; `origin` names it in messages, and `element`
+// each entry ("target", or "point" for --query-points).
 std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const exactgeo::Mesh& mesh,
-                                                  const std::string& origin);
+                                                  const std::string& origin, std::string_view element = "target");
 // The targets of a list option (distance --targets), each value a list as above, a file holding one (text, a
 // CSV file with a vertex column, or a .npy array of vertex indices of any integer dtype) or "-" (standard
 // input, in any form a file takes).
 std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
-                                                 const exactgeo::Mesh& mesh, const std::string& option);
+                                                 const exactgeo::Mesh& mesh, const std::string& option,
+                                                 std::string_view element = "target");
 
 // Pairs of points (pairs --pairs): each value a list of pairs, a file holding one or "-" (standard input).
 // As text, pairs are separated by newlines or ';' and each is two points as targets are written (vertex

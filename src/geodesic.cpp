@@ -7,6 +7,7 @@
 #include <string>
 
 #include "exactgeo/error.hpp"
+#include "face_windows.hpp"
 #include "surface_point.hpp"
 #include "vtp_engine.hpp"
 #include "worker_pool.hpp"
@@ -159,6 +160,41 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
   result.stats.propagation_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+// The kept windows of the last run, for `query` (a name for the error message).
+const detail::FaceWindows& GeodesicSolver::kept_windows(const char* query) const {
+  const detail::FaceWindows* kept = engine_->kept_windows();
+  if (result_.distances.empty() || !kept)
+    throw Error(ErrorCode::invalid_argument, std::string(query) +
+                                                 " needs the windows of the last run: solve with keep_windows "
+                                                 "(GeodesicOptions::keep_windows = true) first");
+  return *kept;
+}
+
+std::vector<double> GeodesicSolver::distance_at(std::span<const SurfacePoint> points) const {
+  const detail::FaceWindows& kept = kept_windows("distance_at");
+  const detail::SurfaceMesh& surface = mesh_->surface();
+  const double cutoff = engine_->cutoff();
+  const std::vector<detail::LocatedPoint> located = locate_all(surface, points, "point");
+  // Answered face by face: a face's windows are read from memory once for all its points, which on a large
+  // mesh is most of a query's time (random points on nefertiti: 3.7x faster than in the caller's order).
+  std::vector<std::uint64_t> by_face(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) by_face[i] = std::uint64_t{located[i].face} << 32 | i;
+  std::sort(by_face.begin(), by_face.end());
+  std::vector<double> distances(points.size());
+  for (const std::uint64_t key : by_face) {
+    const auto i = static_cast<std::uint32_t>(key);
+    const detail::LocatedPoint& point = located[i];
+    if (point.vertex != detail::kNone) {  // that input vertex, as a target there reads it
+      distances[i] = result_.distances[surface.surface_to_input[point.vertex]];
+      continue;
+    }
+    detail::Arrival arrival;
+    const double d = kept.reach(surface, engine_->distances(), point, arrival);
+    distances[i] = d <= cutoff ? surface.to_input_length(d) : HUGE_VAL;
+  }
+  return distances;
 }
 
 GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,

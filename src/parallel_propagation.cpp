@@ -31,6 +31,7 @@
 #include <mutex>
 
 #include "assert.hpp"
+#include "face_windows.hpp"
 #include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
@@ -260,6 +261,10 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   if (worth_pruning(taken)) {
     const PhaseTimer timer(options_.collect_timings, scratch.stats.pruning_seconds);
     incoming = incoming.first(prune_list(incoming, tolerances_));
+  }
+  if (kept_windows_) {
+    const SpinGuard guard(parallel_->face_locks[face_of(h)]);  // h may be crossing on another thread too
+    keep_entering(h, incoming, thread);
   }
   // The face entered in this band or before: no thread changes its visit any more.
   const bool prime = std::atomic_ref<std::uint32_t>(face_visited_at_[face_of(h)]).load(std::memory_order_relaxed) == iteration_;

@@ -11,6 +11,7 @@
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
 #include "assert.hpp"
+#include "face_windows.hpp"
 #include "surface_point.hpp"
 #include "tolerances.hpp"
 #include "vtp_engine.hpp"
@@ -333,6 +334,16 @@ class PathBuilder {
   GeodesicPath path_;
 };
 
+// The path to `point`, a point of the last run's surface inside a face or on an edge, whose last straight
+// piece `arrival` describes.
+GeodesicPath trace_to_point(const Mesh& mesh, const VtpEngine& engine, const LocatedPoint& point,
+                            const Arrival& arrival) {
+  PathPointLocation location;
+  location.kind = PathPointLocation::Kind::face;
+  location.face_point = {mesh.surface().surface_face_to_input[point.face], point.barycentric};
+  return PathBuilder(mesh, engine).trace(point_position(mesh, location.face_point), location, arrival);
+}
+
 }  // namespace
 
 GeodesicPath trace_to_target(const Mesh& mesh, const VtpEngine& engine, std::size_t target) {
@@ -341,11 +352,7 @@ GeodesicPath trace_to_target(const Mesh& mesh, const VtpEngine& engine, std::siz
   if (point.vertex != kNone)  // that input vertex, through the copy that has its distance
     return PathBuilder(mesh, engine)
         .trace_vertex(surface.nearest_copy(surface.surface_to_input[point.vertex], engine.distances()));
-  PathPointLocation location;
-  location.kind = PathPointLocation::Kind::face;
-  location.face_point = {surface.surface_face_to_input[point.face], point.barycentric};
-  return PathBuilder(mesh, engine)
-      .trace(point_position(mesh, location.face_point), location, engine.target_arrivals()[target]);
+  return trace_to_point(mesh, engine, point, engine.target_arrivals()[target]);
 }
 
 }  // namespace detail
@@ -374,6 +381,19 @@ GeodesicPath GeodesicSolver::path_to_target(std::size_t target) const {
   if (std::isinf(result_.target_distances[target])) return {};
   GeodesicPath path = detail::trace_to_target(*mesh_, *engine_, target);
   path.source = result_.target_nearest_source[target];
+  return path;
+}
+
+GeodesicPath GeodesicSolver::path_to_point(const SurfacePoint& surface_point) const {
+  const detail::FaceWindows& kept = kept_windows("path_to_point");
+  const detail::SurfaceMesh& surface = mesh_->surface();
+  const detail::LocatedPoint point = detail::locate_checked(surface, surface_point, "point");
+  if (point.vertex != detail::kNone) return path_to_vertex(surface.surface_to_input[point.vertex]);
+  detail::Arrival arrival;
+  const double d = kept.reach(surface, engine_->distances(), point, arrival);
+  if (std::isinf(d) || d > engine_->cutoff()) return {};  // unreached, or beyond the cut-off
+  GeodesicPath path = detail::trace_to_point(*mesh_, *engine_, point, arrival);
+  path.source = engine_->label_of(arrival.from);
   return path;
 }
 

@@ -80,6 +80,20 @@ std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std
   return copies;
 }
 
+LocatedPoint seen_across_edge(const SurfaceMesh& mesh, const LocatedPoint& point) {
+  LocatedPoint across;
+  if (point.edge == kNone || mesh.twin[point.edge] == kNone) return across;
+  const std::uint32_t e = point.edge, g = mesh.twin[e];
+  const double t = point.barycentric[(e + 1) % 3];  // from e's tail towards its head
+  const double t_g = mesh.tail(g) == mesh.tail(e) ? t : 1 - t;
+  across.face = face_of(g);
+  across.barycentric = {0, 0, 0};
+  across.barycentric[g % 3] = 1 - t_g;
+  across.barycentric[(g + 1) % 3] = t_g;
+  across.edge = g;
+  return across;
+}
+
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
   const int i = static_cast<int>(h % 3);  // h runs from corner i (at the origin) to corner i + 1
   const HalfedgeGeometry& g = mesh.halfedges[h];

@@ -30,6 +30,10 @@ LocatedPoint locate_checked(const SurfaceMesh& mesh, const SurfacePoint& point, 
 // Error(invalid_argument) if the index is out of range or the vertex is used by no face.
 std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex);
 
+// The same point seen from the face across the edge it lies on; face kNone if it lies on no edge, or on a
+// boundary edge.
+LocatedPoint seen_across_edge(const SurfaceMesh& mesh, const LocatedPoint& point);
+
 // The point in the frame of halfedge h, a halfedge of the point's face (tail at the origin, head at
 // (length, 0), apex above the x axis).
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h);

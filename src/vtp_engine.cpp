@@ -9,6 +9,7 @@
 
 #include "assert.hpp"
 #include "cache_hint.hpp"
+#include "face_windows.hpp"
 #include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
 #include "spin_lock.hpp"
@@ -169,6 +170,13 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   // The parallel bands keep the plain order: pair_distances runs each search on one thread.
   has_goal_ = goal_directed_ && targets_.size() == 1 && threads_ == 1;
   if (has_goal_) goal_ = engine_position(mesh_, targets_[0]);
+  if (options.keep_windows) {
+    if (!kept_windows_) kept_windows_ = std::make_unique<FaceWindows>();
+    kept_windows_->start(mesh_.halfedges.size(), threads_,
+                         [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
+  } else {
+    kept_windows_.reset();  // an ordinary run keeps nothing
+  }
   lists_.reset(mesh_.halfedges.size(), threads_,
                [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
   stats_.threads = threads_;
@@ -197,6 +205,21 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   stats_.window_propagations = stats_.prime_propagations + stats_.secondary_propagations;
   stats_.peak_windows = lists_.peak_live();
   stats_.peak_window_bytes = lists_.arena_bytes();
+  if (kept_windows_) {
+    kept_windows_->finish(mesh_, distance_, cutoff_, sources_, tolerances_);
+    stats_.kept_windows = kept_windows_->window_count();
+    stats_.kept_window_bytes = kept_windows_->bytes(mesh_.halfedges.size());
+  }
+}
+
+const FaceWindows* VtpEngine::kept_windows() const {
+  return kept_windows_ && kept_windows_->kept() ? kept_windows_.get() : nullptr;
+}
+
+// With keep_windows: the list entering face(h) through h, logged for queries after the run.
+void VtpEngine::keep_entering(std::uint32_t h, std::span<const Window> list, unsigned thread) {
+  kept_windows_->record(mesh_, h, list, distance_now(mesh_.tail(h)), distance_now(mesh_.head(h)), cutoff_,
+                        tolerances_, thread);
 }
 
 // Vertex-sorted (VTP, OPVTP): each iteration pops the nearest wavefront vertex and adds all its faces.
@@ -321,19 +344,7 @@ void VtpEngine::join_face(std::uint32_t f) {
 void VtpEngine::start_point_source(std::uint32_t site) {
   const LocatedPoint& point = sources_[site].point;
   const std::uint32_t id = mesh_.vertex_count + site;
-  std::array<LocatedPoint, 2> around = {point, LocatedPoint{}};
-  if (point.edge != kNone && mesh_.twin[point.edge] != kNone) {
-    // The same point seen from the face across the edge.
-    const std::uint32_t e = point.edge, g = mesh_.twin[e];
-    const double t = point.barycentric[(e + 1) % 3];  // from e's tail towards its head
-    const double t_g = mesh_.tail(g) == mesh_.tail(e) ? t : 1 - t;
-    around[1].face = face_of(g);
-    around[1].barycentric = {0, 0, 0};
-    around[1].barycentric[g % 3] = 1 - t_g;
-    around[1].barycentric[(g + 1) % 3] = t_g;
-    around[1].edge = g;
-  }
-  for (const LocatedPoint& in_face : around) {
+  for (const LocatedPoint& in_face : {point, seen_across_edge(mesh_, point)}) {
     if (in_face.face == kNone) continue;
     const std::uint32_t f = in_face.face;
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
@@ -598,6 +609,7 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
   prefetch_destinations(h);
   // Read in place: nothing below changes the lists until this one is cleared.
   const std::span<const Window> incoming = list_to_cross(h, 0, stats_);
+  if (kept_windows_) keep_entering(h, incoming, 0);
   const bool prime = face_visited_at_[face_of(h)] == iteration_;
   ApexReach reach;
   Arrival at_apex;
@@ -757,11 +769,9 @@ void VtpEngine::evaluate_targets(std::uint32_t h, std::span<const Window> list) 
     const std::uint32_t t = face_targets_[i];
     const auto [qx, qy] = position_in_frame(mesh_, targets_[t], h);
     for (const Window& w : list) {
-      const double rise = qy - w.py;
-      if (!(rise > 0)) continue;  // the pseudo-source on the edge's line and q on the edge: see the corners
-      const double x = w.px + (qx - w.px) * (-w.py / rise);
-      if (x < w.b0 || x > w.b1) continue;
-      offer_to_target(t, w.sigma + length(qx - w.px, qy - w.py), Arrival{w.pseudo_source, h, x, w.px, w.py});
+      double x = 0;
+      const double d = distance_through_window(w, qx, qy, x);
+      if (d < HUGE_VAL) offer_to_target(t, d, Arrival{w.pseudo_source, h, x, w.px, w.py});
     }
   }
   evaluate_targets_from_corners(f);
@@ -807,6 +817,15 @@ std::uint32_t VtpEngine::label_of(std::uint32_t pseudo_source, const std::vector
   if (pseudo_source == kNone) return kNoSource;
   if (pseudo_source >= mesh_.vertex_count) return sources_[pseudo_source - mesh_.vertex_count].label;
   return vertex_labels[pseudo_source];
+}
+
+std::uint32_t VtpEngine::label_of(std::uint32_t pseudo_source) const {
+  for (std::uint32_t u = pseudo_source, steps = 0; u != kNone && steps <= mesh_.vertex_count; ++steps) {
+    if (u >= mesh_.vertex_count) return sources_[u - mesh_.vertex_count].label;
+    if (source_label_[u] != kNone) return source_label_[u];
+    u = arrival_[u].from;
+  }
+  return kNoSource;
 }
 
 // Each vertex takes the label of the pseudo-source its last straight piece starts from. Pseudo-sources are

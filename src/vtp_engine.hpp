@@ -10,8 +10,10 @@
 //
 // Generalisations over the paper, each costing nothing when unused: sources at points inside faces and on
 // edges, a distance cut-off (windows that cannot reach below it are dropped), target points whose distances
-// are evaluated as window lists cross their faces (the cut-off then shrinks to the farthest target), and
-// per-vertex arrivals from which paths are traced back, and goal-directed runs towards one target (docs/pairs.md).
+// are evaluated as window lists cross their faces (the cut-off then shrinks to the farthest target),
+// per-vertex arrivals from which paths are traced back, on request the lists that crossed each face, kept so
+// that any point can be evaluated after the run as targets are during it (face_windows.hpp), and
+// goal-directed runs towards one target (docs/pairs.md).
 #pragma once
 
 #include <array>
@@ -34,6 +36,7 @@
 namespace exactgeo::detail {
 
 struct ParallelState;  // parallel_propagation.hpp
+class FaceWindows;    // face_windows.hpp
 
 // A source of a run: a surface vertex (point.vertex set) or a point inside a face or on an edge, and the
 // index of the user's source it stands for.
@@ -81,6 +84,9 @@ class VtpEngine {
   const std::vector<SourceSite>& sources() const { return sources_; }
   const std::vector<LocatedPoint>& targets() const { return targets_; }
   const GeodesicStats& stats() const { return stats_; }
+  // The windows the last run kept for queries at any point (GeodesicOptions::keep_windows); null if it kept
+  // none, or did not finish.
+  const FaceWindows* kept_windows() const;
 
   // Calls work(begin, end) over [0, count) cut into one part per thread of the last run, on its threads.
   template <class Work>
@@ -94,6 +100,9 @@ class VtpEngine {
   // the distance is +inf; and the same for a pseudo-source id as used in Arrival::from.
   std::vector<std::uint32_t> vertex_labels() const;
   std::uint32_t label_of(std::uint32_t pseudo_source, const std::vector<std::uint32_t>& vertex_labels) const;
+  // The same for one pseudo-source, by following its chain of arrivals back to a source (vertex_labels'
+  // rule, without labelling every vertex).
+  std::uint32_t label_of(std::uint32_t pseudo_source) const;
 
  private:
   enum class VertexState : std::uint8_t { unseen, queued, inside };
@@ -139,6 +148,7 @@ class VtpEngine {
                            std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
                            Arrival& at_apex) const;
   void deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime);
+  void keep_entering(std::uint32_t h, std::span<const Window> list, unsigned thread);
 
   // How windows crossing an edge join the list on its other side, halfedge `edge` (kNone: a boundary edge,
   // where they leave the surface).
@@ -229,6 +239,7 @@ class VtpEngine {
   // one target's position in the engine's frame).
   bool goal_directed_ = false, has_goal_ = false;
   std::array<double, 3> goal_{};
+  std::unique_ptr<FaceWindows> kept_windows_;  // with keep_windows: every list crossing a face, logged
 };
 
 // The shortest path of the engine's last run to its target `target`, whose distance is finite (path.cpp): to a

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -24,6 +25,18 @@ struct Window {
   double sigma;
   std::uint32_t pseudo_source;  // surface vertex the straight rays start from (a source or a bend vertex)
 };
+
+// The distance through window w to the point (qx, qy) of the face it enters (in w's frame), and where the ray
+// to it crosses the edge; +inf if that ray misses the window. A point on the edge's line with the
+// pseudo-source on it too is left to the paths through the face's corners.
+inline double distance_through_window(const Window& w, double qx, double qy, double& crossing) {
+  const double rise = qy - w.py;
+  if (!(rise > 0)) return HUGE_VAL;
+  crossing = w.px + (qx - w.px) * (-w.py / rise);
+  if (crossing < w.b0 || crossing > w.b1) return HUGE_VAL;
+  const double dx = qx - w.px, dy = qy - w.py;
+  return w.sigma + std::sqrt(dx * dx + dy * dy);
+}
 
 // All window lists. Each list is one block of a power-of-two capacity, carved from large chunks that never
 // move; freed blocks are reused by size class, so after the first vertices no more memory is asked for and a

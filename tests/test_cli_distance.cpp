@@ -354,4 +354,30 @@ TEST_F(Cli, BadPointsAndTargetsAreInvalidInput) {
   expect_error(run("path @grid:4:4 --source 0 --target '3;4'"), 2, "one vertex or point");
 }
 
+// --query-points reads the points --targets reads and answers each as a run with them as targets does.
+TEST_F(Cli, QueryPointsAgreeWithTargets) {
+  write_file(path("points.txt"), "7,12\n5:0.5,0.5,0 ; 24\n100:0.2,0.3,0.5\n311:0.6,0.1,0.3\n");
+  const std::string from_source = "distance @torus:24:10 --source 3 ";
+  ASSERT_EQ(run(from_source + "--targets " + arg("points.txt") + " --target-out " + arg("t.npy")).exit_code, 0);
+  RunResult result = run(from_source + "--query-points " + arg("points.txt") + " --query-out " + arg("q.npy") +
+                         " --stats " + arg("s.json"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::vector<double> targets = parse_npy(path("t.npy")), queried = parse_npy(path("q.npy"));
+  ASSERT_EQ(queried.size(), 6u);
+  ASSERT_EQ(targets.size(), queried.size());
+  for (std::size_t i = 0; i < queried.size(); ++i) EXPECT_NEAR(queried[i], targets[i], 1e-13) << "point " << i;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(path("s.json")));
+  EXPECT_EQ(stats["query_points"], 6);
+  EXPECT_GT(stats["kept_windows"].get<double>(), 0);
+  ASSERT_EQ(run(from_source + "--query-points " + arg("points.txt") + " --query-out " + arg("q.csv")).exit_code, 0);
+  EXPECT_EQ(read_file(path("q.csv")).substr(0, 15), "point,distance\n");
+  // Without --query-out the summary lists them.
+  result = run(from_source + "--query-points " + arg("points.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("point 5"), std::string::npos) << result.out;
+  expect_error(run(from_source + "--query-points 9999 --query-out " + arg("q.npy")), 2, "9999");
+  expect_error(run(from_source + "--query-points 5:0.5,x --query-out " + arg("q.npy")), 2,
+               "point '5:0.5,x' is not a surface point");
+}
+
 }  // namespace

@@ -75,7 +75,8 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, OracleTest,
                            return name;
                          });
 
-// Sources and targets inside faces and on edges, against CGAL's face locations: on a generated torus (so
+// Sources and targets inside faces and on edges, against CGAL's face locations (the targets also asked with
+// distance_at after a run that kept its windows): on a generated torus (so
 // the check runs without the shared meshes too) and on shared meshes with boundaries, seams and
 // non-manifold parts. CGAL 5.5 (Debian 12) mishandles sources on edges (CGAL issue 6681, fixed in 5.6), so
 // an edge source is checked as a vertex source of the mesh with that edge split at the point, which leaves
@@ -109,18 +110,6 @@ std::uint32_t split_edge_at(exactgeo::MeshSoup& soup, const exactgeo::SurfacePoi
   return m;
 }
 
-exactgeo::SurfacePoint random_face_point(const exactgeo::MeshSoup& soup, exactgeo_test::Random& random, int zeros) {
-  std::uint32_t face;
-  do face = random.below(exactgeo_test::face_count(soup));
-  while (exactgeo_test::repeats_a_vertex(soup, face));
-  const double u = random.uniform(0, 1), v = random.uniform(0, 1);
-  std::array<double, 3> b = {std::min(u, v), std::max(u, v) - std::min(u, v), 1 - std::max(u, v)};
-  if (zeros >= 1) b = {u, 1 - u, 0};  // on an edge
-  if (zeros >= 2) b = {1, 0, 0};      // at a corner
-  std::rotate(b.begin(), b.begin() + random.below(3), b.end());
-  return {face, b};
-}
-
 // The generated torus, or a shared mesh (nullopt when the shared meshes are absent).
 std::optional<exactgeo::MeshSoup> point_test_mesh(const std::string& name) {
   if (name == "bumpy_torus") return exactgeo::make_bumpy_torus(48, 20);
@@ -132,8 +121,8 @@ TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
   if (!soup) GTEST_SKIP() << exactgeo_test::kNoSharedMeshesMessage;
   const exactgeo::Mesh mesh(*soup);
   exactgeo_test::Random random(4242);
-  const std::vector<exactgeo::SurfacePoint> sources = {random_face_point(*soup, random, 0),
-                                                       random_face_point(*soup, random, 2)};
+  const std::vector<exactgeo::SurfacePoint> sources = {exactgeo_test::random_face_point(*soup, random, 0),
+                                                       exactgeo_test::random_face_point(*soup, random, 2)};
   std::vector<exactgeo::SurfacePoint> targets;
   // Edge targets on interior edges only: CGAL 5.5 also misplaces points on boundary edges (checked below).
   const std::vector<exactgeo_test::MeshEdge> edges = exactgeo_test::unique_edges(*soup);
@@ -146,7 +135,7 @@ TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
   };
   while (targets.size() < 40) {
     const std::size_t i = targets.size();
-    const exactgeo::SurfacePoint target = random_face_point(*soup, random, i < 30 ? 0 : (i < 36 ? 1 : 2));
+    const exactgeo::SurfacePoint target = exactgeo_test::random_face_point(*soup, random, i < 30 ? 0 : (i < 36 ? 1 : 2));
     if (i >= 30 && i < 36 && on_boundary(target)) continue;
     targets.push_back(target);
   }
@@ -169,9 +158,18 @@ TEST_P(OraclePointTest, PointSourcesAndTargetsMatchCgal) {
     EXPECT_TRUE(exactgeo_test::distances_match(with_targets.target_distances, oracle.target_distances,
                                                kRelativeTolerance, &target_error))
         << where;
+    // The same points asked after a run that kept its windows (docs/queries.md).
+    exactgeo::GeodesicOptions keeping = options;
+    keeping.keep_windows = true;
+    solver.solve(sources, {}, keeping);
+    double query_error = 0;
+    EXPECT_TRUE(exactgeo_test::distances_match(solver.distance_at(targets), oracle.target_distances,
+                                               kRelativeTolerance, &query_error))
+        << where << " distance_at";
     if (exactgeo_test::is_default_variant(options))
-      std::printf("[ oracle   ] %-18s point sources: max rel error %.2e at vertices, %.2e at targets\n",
-                  GetParam().c_str(), vertex_error, target_error);
+      std::printf("[ oracle   ] %-18s point sources: max rel error %.2e at vertices, %.2e at targets, %.2e at "
+                  "points asked after the run\n",
+                  GetParam().c_str(), vertex_error, target_error, query_error);
   }
 }
 
@@ -181,7 +179,7 @@ TEST_P(OraclePointTest, EdgeSourcesMatchCgalOnTheSplitMesh) {
   const exactgeo::Mesh mesh(*soup);
   exactgeo_test::Random random(77);
   for (int trial = 0; trial < 2; ++trial) {
-    const exactgeo::SurfacePoint source = random_face_point(*soup, random, 1);
+    const exactgeo::SurfacePoint source = exactgeo_test::random_face_point(*soup, random, 1);
     exactgeo::MeshSoup split = *soup;
     const std::uint32_t middle = split_edge_at(split, source);
     const auto oracle = exactgeo_oracle::cgal_geodesic_distances(split.positions, split.triangles,
@@ -206,11 +204,11 @@ TEST_P(OraclePointTest, EdgeTargetsMatchCgalOnTheSplitMesh) {
   if (!soup) GTEST_SKIP() << exactgeo_test::kNoSharedMeshesMessage;
   const exactgeo::Mesh mesh(*soup);
   exactgeo_test::Random random(99);
-  const exactgeo::SurfacePoint source = random_face_point(*soup, random, 0);
+  const exactgeo::SurfacePoint source = exactgeo_test::random_face_point(*soup, random, 0);
   std::vector<exactgeo::SurfacePoint> targets;
   for (const exactgeo_test::MeshEdge& edge : exactgeo_test::unique_edges(*soup))
     if (edge.faces == 1 && targets.size() < 2) targets.push_back(exactgeo::edge_point(mesh, edge.low, edge.high, 0.3));
-  while (targets.size() < 3) targets.push_back(random_face_point(*soup, random, 1));
+  while (targets.size() < 3) targets.push_back(exactgeo_test::random_face_point(*soup, random, 1));
   exactgeo::GeodesicSolver solver(mesh);
   const exactgeo_oracle::FacePoint oracle_source{source.face, source.barycentric};
   for (const exactgeo::SurfacePoint& target : targets) {

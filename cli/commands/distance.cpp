@@ -28,6 +28,8 @@ struct DistanceArguments {
   std::vector<std::string> targets;
   std::vector<std::string> target_xyz;
   std::string targets_beyond = "inf";
+  std::vector<std::string> query_points;
+  std::string query_out;
   bool labels = false;
   std::string out;
   std::string target_out;
@@ -84,7 +86,7 @@ void warn_if_seams_cut_the_surface(const DistanceArguments& arguments, const exa
 }
 
 nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const LoadedMesh& loaded,
-                                  const Sources& sources, std::size_t targets,
+                                  const Sources& sources, std::size_t targets, std::size_t queries,
                                   const exactgeo::GeodesicOptions& options, const exactgeo::GeodesicStats& stats,
                                   const Reach& reach, double write_seconds) {
   nlohmann::ordered_json json;
@@ -98,6 +100,7 @@ nlohmann::ordered_json stats_file(const DistanceArguments& arguments, const Load
   json["max_distance_cutoff"] =
       std::isinf(arguments.max_distance) ? nlohmann::ordered_json() : nlohmann::ordered_json(arguments.max_distance);
   json["targets_beyond"] = arguments.targets_beyond;
+  json["query_points"] = queries;
   json["algorithm"] = exactgeo::algorithm_name(options.algorithm);
   json["rule1"] = options.rule1;
   json["rule23"] = options.rule23;
@@ -135,7 +138,8 @@ void append_stats_rows(Rows& rows, const exactgeo::GeodesicStats& stats, bool ti
 }
 
 Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const exactgeo::GeodesicOptions& options,
-             const exactgeo::GeodesicResult& result, std::size_t targets, const Reach& reach) {
+             const exactgeo::GeodesicResult& result, std::size_t targets, std::span<const double> query_distances,
+             const Reach& reach) {
   const std::size_t source_count =
       arguments.sources.vertices.size() + arguments.sources.points.size() + arguments.sources.xyz.size();
   const bool cut_off = targets > 0 || !std::isinf(arguments.max_distance);
@@ -168,6 +172,9 @@ Rows summary(const DistanceArguments& arguments, const LoadedMesh& loaded, const
       if (arguments.labels) value += " (source " + std::to_string(label_value(result.target_nearest_source[t])) + ")";
       rows.emplace_back("target " + std::to_string(t), value);
     }
+  if (arguments.query_out.empty())
+    for (std::size_t q = 0; q < query_distances.size(); ++q)
+      rows.emplace_back("point " + std::to_string(q), format_distance(query_distances[q]));
   return rows;
 }
 
@@ -182,6 +189,9 @@ int run_distance(const DistanceArguments& arguments) {
     const exactgeo::LocateResult located = locate_listed(arguments.target_xyz, mesh, "--target-xyz");
     targets.insert(targets.end(), located.points.begin(), located.points.end());
   }
+  const std::vector<exactgeo::SurfacePoint> query_points =
+      arguments.query_points.empty() ? std::vector<exactgeo::SurfacePoint>()
+                                     : read_targets(arguments.query_points, mesh, "--query-points", "point");
   // --targets-beyond exact: the run goes on until every target is final, whatever the cut-off; the cut-off
   // then applies to the vertex distances alone.
   const bool exact_targets = !targets.empty() && arguments.targets_beyond == "exact";
@@ -191,9 +201,11 @@ int run_distance(const DistanceArguments& arguments) {
                                           .rule23 = !arguments.no_rule23,
                                           .max_distance = exact_targets ? HUGE_VAL : arguments.max_distance,
                                           .collect_timings = arguments.timers,
-                                          .threads = threads_for(arguments.threads, mesh)};
+                                          .threads = threads_for(arguments.threads, mesh),
+                                          .keep_windows = !query_points.empty()};
   // The solver (its window lists and per-vertex state) goes before the outputs are written: they need only
   // the result, and the process's peak memory is the larger of the two phases, not their sum.
+  std::vector<double> query_distances;
   exactgeo::GeodesicResult result = [&] {
     exactgeo::GeodesicSolver solver(mesh);
     Progress progress("vertices", mesh.vertex_count(), arguments.quiet);
@@ -202,6 +214,7 @@ int run_distance(const DistanceArguments& arguments) {
     });
     exactgeo::GeodesicResult solved = solve(solver, sources, targets, options);
     progress.finish();
+    if (!query_points.empty()) query_distances = solver.distance_at(query_points);
     return solved;
   }();
   if (exact_targets)
@@ -224,13 +237,15 @@ int run_distance(const DistanceArguments& arguments) {
   if (!arguments.target_out.empty())
     write_values(arguments.target_out, kTargetValueFormats,
                  {result.target_distances, labels_if_asked(result.target_nearest_source), "target", nullptr});
+  if (!arguments.query_out.empty())
+    write_values(arguments.query_out, kTargetValueFormats, {query_distances, {}, "point", nullptr});
   const double write_seconds = seconds_since(write_start);
   if (!arguments.stats.empty())
-    write_json(arguments.stats, stats_file(arguments, loaded, sources, targets.size(), options, result.stats, reach,
-                                           write_seconds));
+    write_json(arguments.stats, stats_file(arguments, loaded, sources, targets.size(), query_points.size(), options,
+                                           result.stats, reach, write_seconds));
   // The summary goes to stdout only when no output does.
-  if (arguments.out.empty() && arguments.target_out != kStdout)
-    print_table(summary(arguments, loaded, options, result, targets.size(), reach));
+  if (arguments.out.empty() && arguments.target_out != kStdout && arguments.query_out != kStdout)
+    print_table(summary(arguments, loaded, options, result, targets.size(), query_distances, reach));
   return kExitOk;
 }
 
@@ -266,6 +281,10 @@ Command add_distance_command(CLI::App& app) {
                    "then applies to vertex distances only)")
       ->check(CLI::IsMember({"inf", "exact"}))
       ->type_name("WHAT");
+  add_list_option(*command, a.mesh, "--query-points", a.query_points,
+                  "Points whose exact distance is read after the run, in the forms --targets takes: the run keeps "
+                  "the windows that reached each face (more memory) and does not stop early for them")
+      ->type_name("FILE|LIST|-");
   command->add_flag("--labels", a.labels,
                     "Add the nearest source (index in the order given, vertices first; -1 if none) to each output row");
   add_output_option(*command, "--out", a.out,
@@ -279,6 +298,10 @@ Command add_distance_command(CLI::App& app) {
                     "Write one distance per target: .txt, .csv (target,distance; - writes it to stdout) or .npy; "
                     "without it the summary lists them",
                     kTargetValueFormats, "target output");
+  add_output_option(*command, "--query-out", a.query_out,
+                    "Write one distance per --query-points point: .txt, .csv (point,distance; - writes it to "
+                    "stdout) or .npy; without it the summary lists them",
+                    kTargetValueFormats, "query output");
   command->add_option("--stats", a.stats, "Write statistics as JSON")->type_name("FILE.json");
   std::vector<std::string> algorithm_names;
   for (const auto& [value, name] : exactgeo::kAlgorithmNames) algorithm_names.emplace_back(name);
@@ -299,8 +322,8 @@ Command add_distance_command(CLI::App& app) {
   add_threads_option(*command, a.threads);
   command->add_flag("--quiet", a.quiet, "No progress line on stderr");
   a.mesh.checks.push_back([&a] {
-    const std::array<std::pair<const char*, const std::string*>, 3> outputs = {
-        {{"--out", &a.out}, {"--target-out", &a.target_out}, {"--stats", &a.stats}}};
+    const std::array<std::pair<const char*, const std::string*>, 4> outputs = {
+        {{"--out", &a.out}, {"--target-out", &a.target_out}, {"--query-out", &a.query_out}, {"--stats", &a.stats}}};
     for (std::size_t i = 0; i < outputs.size(); ++i)
       for (std::size_t j = i + 1; j < outputs.size(); ++j) {
         const std::string &first = *outputs[i].second, &second = *outputs[j].second;

@@ -101,12 +101,13 @@ void remove_unfinished_outputs_on_interrupt();
 // Lets `write` fill `path` through an OutputFile.
 void write_file(const std::string& path, const std::function<void(std::FILE*)>& write);
 
-// Values per vertex or per target; with labels, each row also gives the nearest source (-1 where none).
+// Values per vertex, per target or per query point; with labels, each row also gives the nearest source (-1
+// where none).
 struct Values {
   std::span<const double> distances;
   std::span<const std::uint32_t> labels;  // empty: no label column
-  const char* row_name;                   // "vertex" or "target": the first CSV column
-  const exactgeo::Mesh* mesh;             // the mesh the values belong to (.ply), or null for targets
+  const char* row_name;                   // "vertex", "target" or "point": the first CSV column
+  const exactgeo::Mesh* mesh;             // the mesh the values belong to (.ply), or null for targets and points
 };
 using ValuesWriter = void (*)(std::FILE*, const Values&);
 extern const std::span<const Format<ValuesWriter>> kVertexValueFormats;  // .txt .csv .npy .ascii.ply .ply .vtk

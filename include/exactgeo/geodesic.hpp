@@ -20,6 +20,7 @@ namespace exactgeo {
 
 namespace detail {
 class VtpEngine;
+class FaceWindows;
 struct SourceSite;
 }
 
@@ -55,6 +56,7 @@ struct GeodesicOptions {
   double max_distance = std::numeric_limits<double>::infinity();
   bool collect_timings = false;
   unsigned threads = 1;
+  bool keep_windows = false;
   // A run whose token is stopped (std::stop_source::request_stop, from any thread) ends within a few
   // milliseconds by throwing exactgeo::Error(cancelled). Distance matrices and sampling pass it to every run.
   // A handle rather than a setting, so not among the fields below.
@@ -82,6 +84,10 @@ constexpr void for_each_option_field(Visit&& visit) {
         "advances in distance bands whose vertices and lists the threads share, with the distances of one "
         "thread to within 1e-14 of the largest (the last bits may change from run to run); face-sorted "
         "variants run on one thread");
+  visit("keep_windows", &O::keep_windows,
+        "keep, after the run, the windows that reached each face, so that GeodesicSolver::distance_at and "
+        "path_to_point answer the exact distance and shortest path to any surface point (GeodesicStats::"
+        "kept_window_bytes says what they hold); off, a run keeps nothing beyond its vertices' distances");
 }
 
 // What a run did: the counts as the paper defines them (Section 6.2) and the time. A propagation is prime if
@@ -104,6 +110,8 @@ struct GeodesicStats {
   std::uint64_t parallel_critical_path = 0;
   std::uint64_t list_crossings = 0;
   std::uint64_t parallel_lock_waits = 0;
+  std::uint64_t kept_windows = 0;
+  std::uint64_t kept_window_bytes = 0;
   unsigned threads = 0;
   double propagation_seconds = 0.0;
   double window_propagation_seconds = 0.0;
@@ -164,6 +172,11 @@ constexpr void for_each_stats_field(Visit&& visit) {
         "the work a step can share");
   visit("parallel_lock_waits", &S::parallel_lock_waits, count,
         "threads > 1: times a thread found a face's or a vertex's lock taken and waited");
+  visit("kept_windows", &S::kept_windows, count,
+        "keep_windows: windows kept for queries at any point, those that reached a face and that nothing else "
+        "beats there (0 without)");
+  visit("kept_window_bytes", &S::kept_window_bytes, count,
+        "keep_windows: bytes the kept windows and their per-face index hold after the run (0 without)");
   visit("threads", &S::threads, count,
         "threads the run shared: GeodesicOptions::threads, but 1 for the face-sorted variants (sequential), and "
         "fewer where the system would not start them all");
@@ -258,7 +271,18 @@ class EXACTGEO_API GeodesicSolver {
   GeodesicPath path_to_vertex(std::uint32_t vertex) const;
   GeodesicPath path_to_target(std::size_t target) const;
 
+  // After a run with GeodesicOptions::keep_windows: the distance from the nearest source to each point, as
+  // exact as if the points had been the run's targets, +inf where unreachable or beyond the run's cut-off
+  // (max_distance, or the farthest target when it had targets). A point at a vertex reads `distances`. Any
+  // number of calls, until the next run. Throws exactgeo::Error(invalid_argument) if the last run did not
+  // keep its windows, or naming the first invalid point.
+  std::vector<double> distance_at(std::span<const SurfacePoint> points) const;
+  // The shortest path of the last run (with keep_windows) from its nearest source to the point; empty (length
+  // +inf) where distance_at is +inf. Throws like distance_at.
+  GeodesicPath path_to_point(const SurfacePoint& point) const;
+
  private:
+  const detail::FaceWindows& kept_windows(const char* query) const;
   const GeodesicResult& run(std::span<const detail::SourceSite> sites, std::span<const SurfacePoint> targets,
                             const GeodesicOptions& options);
   // The one-off queries hand over the solver's result instead of copying it.

@@ -67,12 +67,16 @@ def exact_targets(targets_beyond: str, has_targets: bool, max_distance: float | 
     return targets_beyond == "exact" and has_targets and max_distance is not None
 
 
-def geodesic_options(max_distance: float | None, options: Mapping[str, object]) -> _core.GeodesicOptions:
+def geodesic_options(
+    max_distance: float | None, options: Mapping[str, object], keep_windows: bool = False
+) -> _core.GeodesicOptions:
     unknown = sorted(options.keys() - _OPTION_NAMES)
     if unknown:
         raise TypeError(f"unexpected keyword argument {unknown[0]!r} (options: {', '.join(sorted(_OPTION_NAMES))})")
     checked = {name: _OPTION_CONVERSIONS[name](value, name) for name, value in options.items()}
-    return _core.GeodesicOptions(max_distance=_inputs.cutoff(max_distance), **checked)
+    return _core.GeodesicOptions(
+        max_distance=_inputs.cutoff(max_distance), keep_windows=_inputs.flag(keep_windows, "keep_windows"), **checked
+    )
 
 
 def _number(value: float) -> str:
@@ -172,6 +176,7 @@ class GeodesicSolver:
         *,
         max_distance: float | None = None,
         targets_beyond: TargetsBeyond = "inf",
+        keep_windows: bool = False,
         progress: Progress = None,
         **options: Unpack[AlgorithmOptions],
     ) -> GeodesicResult:
@@ -186,12 +191,16 @@ class GeodesicSolver:
         and inf beyond. `max_distance`: nothing farther is computed (inf), targets included: the run stops
         at the cut-off. `targets_beyond="exact"` answers every target exactly instead, as gdist and
         pygeodesic do: the run goes on until every target is final, and the cut-off applies to the vertex
-        distances alone (inf beyond it). `progress`: True for a tqdm bar, or a function called with
-        (thousandths of the mesh passed, 1000). Ctrl-C stops a run on a large mesh within milliseconds.
+        distances alone (inf beyond it). `keep_windows=True` keeps what the run learnt about every face (see
+        stats.kept_window_bytes), so that distance_at and path_to_point answer any point afterwards.
+        `progress`: True for a tqdm bar, or a function called with (thousandths of the mesh passed, 1000).
+        Ctrl-C stops a run on a large mesh within milliseconds.
         """
         exact = exact_targets(targets_beyond, targets is not None, max_distance)
         config = geodesic_options(
-            None if exact else max_distance, {"threads": _core.recommended_threads(self._mesh._core), **options}
+            None if exact else max_distance,
+            {"threads": _core.recommended_threads(self._mesh._core), **options},
+            keep_windows,
         )
         ends = _NO_TARGETS if targets is None else target_points(targets, self._mesh)
         starts = source_sites(sources, self._mesh)
@@ -225,6 +234,23 @@ class GeodesicSolver:
     def path_to_target(self, target: int) -> GeodesicPath:
         """The shortest path of the last run to its target number `target`."""
         return GeodesicPath._of(self._core.path_to_target(_inputs.count(target, "target"), self._run_number()))
+
+    def distance_at(self, points: Sites) -> np.ndarray:
+        """Distances from the last run's nearest source to `points`, as exact as if they had been its targets:
+        float64, one per point, inf where unreachable or beyond the run's cut-off (max_distance, or the farthest
+        target). The run must have kept its windows (`solve(..., keep_windows=True)`); any number of calls
+        follow it. Points as `targets` takes them: vertex indices, a SurfacePoint, a list of them, SurfacePoints.
+        """
+        checked = target_points(points, self._mesh, "points", "point")
+        return self._core.distance_at(checked.faces, checked.barycentric, self._run_number())
+
+    def path_to_point(self, point: int | np.integer | SurfacePoint) -> GeodesicPath:
+        """The shortest path of the last run (with `keep_windows=True`) from its nearest source to `point`, a
+        SurfacePoint or a vertex index."""
+        if isinstance(point, bool) or not isinstance(point, (SurfacePoint, int, np.integer)):
+            raise TypeError(f"point must be a SurfacePoint or a vertex index, not {type(point).__name__}")
+        checked = target_points(point, self._mesh, "point", "point")
+        return GeodesicPath._of(self._core.path_to_point(checked.faces, checked.barycentric, self._run_number()))
 
 
 def _warn_if_seams_cut_the_surface(mesh: Mesh, distances: np.ndarray) -> None:

@@ -207,19 +207,20 @@ struct Solver {
   std::uint64_t runs = 0;
 };
 
-// A path of run `run` (the caller's last), refused if the solver has run again since.
+// What `query` answers about run `run` (the caller's last), refused if the solver has run again since.
+auto ask(Solver& self, std::uint64_t run, const auto& query) {
+  nb::gil_scoped_release release;
+  const std::lock_guard lock(self.busy);
+  if (run != self.runs)
+    throw std::runtime_error(
+        "this GeodesicSolver has run again since this thread's solve() (from another thread): its answers "
+        "would belong to that run. Use one GeodesicSolver per thread.");
+  return query(self.solver);
+}
+
+// A path of run `run`, as ask() gets it.
 nb::tuple trace(Solver& self, std::uint64_t run, const auto& query) {
-  exactgeo::GeodesicPath path;
-  {
-    nb::gil_scoped_release release;
-    const std::lock_guard lock(self.busy);
-    if (run != self.runs)
-      throw std::runtime_error(
-          "this GeodesicSolver has run again since this thread's solve() (from another thread): its paths "
-          "would belong to that run. Use one GeodesicSolver per thread.");
-    path = query(self.solver);
-  }
-  return path_arrays(path, self.mesh);
+  return path_arrays(ask(self, run, query), self.mesh);
 }
 
 // Progress of long work as the worker reports it: units done out of a total (rows, samples, vertices).
@@ -592,7 +593,25 @@ NB_MODULE(_core, m) {
           [](Solver& self, std::size_t target, std::uint64_t run) {
             return trace(self, run, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_target(target); });
           },
-          "target"_a, "run"_a);
+          "target"_a, "run"_a)
+      .def(
+          "distance_at",
+          [](Solver& self, const IndexArray& faces, const PointArray& barycentric, std::uint64_t run) {
+            const std::vector<exactgeo::SurfacePoint> points = surface_points(faces, barycentric);
+            std::vector<double> distances =
+                ask(self, run, [&](const exactgeo::GeodesicSolver& solver) { return solver.distance_at(points); });
+            return to_numpy(std::move(distances), {points.size()});
+          },
+          "faces"_a.noconvert(), "barycentric"_a.noconvert(), "run"_a)
+      .def(
+          "path_to_point",
+          [](Solver& self, const IndexArray& faces, const PointArray& barycentric, std::uint64_t run) {
+            const std::vector<exactgeo::SurfacePoint> points = surface_points(faces, barycentric);
+            if (points.size() != 1)
+              throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument, "path_to_point takes one point");
+            return trace(self, run, [&](const exactgeo::GeodesicSolver& solver) { return solver.path_to_point(points[0]); });
+          },
+          "faces"_a.noconvert(), "barycentric"_a.noconvert(), "run"_a);
 
   // Matrix options from the arguments: columns are the targets when has_targets, else every vertex.
   const auto matrix_options = [](const exactgeo::GeodesicOptions& options, unsigned threads, const IndexArray& targets,

@@ -16,7 +16,7 @@ from exactgeo import distributed
 
 MESH = exactgeo.Mesh(*exactgeo.make_grid(2, 2, 1.0, 1.0))
 SOLVER = exactgeo.GeodesicSolver(MESH)
-SOLVER.solve(0)
+SOLVER.solve(0, keep_windows=True)
 VALUES = np.arange(9.0)
 
 # What each kind of argument is given instead of what it takes; None only where it is not the default.
@@ -35,7 +35,8 @@ PROGRESS = ["yes", 1]
 
 # An index out of range is named as the library names it: by the element and its position.
 ELEMENT = {"sources": "source vertex", "first": "source vertex", "targets": "target 0: vertex", "from_vertex": "edge (",
-           "to_vertex": "edge (", "a": "a 0: vertex", "b": "b 0: vertex"}
+           "to_vertex": "edge (", "a": "a 0: vertex", "b": "b 0: vertex",
+           "points": "point 0"}
 
 
 def needs(module: str, call: Callable[..., Any]) -> Callable[..., Any]:
@@ -80,9 +81,14 @@ CALLS: list[tuple[str, Callable[..., Any], dict[str, Any], dict[str, list[Any]]]
     ("GeodesicSolver", exactgeo.GeodesicSolver, {}, dict(mesh=MESH_ARGUMENT)),
     ("GeodesicSolver.solve", SOLVER.solve, dict(sources=0),
      dict(sources=[*INDICES, None], targets=INDICES, max_distance=OPTIONAL_REAL, targets_beyond=[None, 1, "all"],
-          progress=PROGRESS, algorithm=TEXT, rule1=FLAG, rule23=FLAG, collect_timings=FLAG, threads=[*COUNT, None])),
+          keep_windows=FLAG, progress=PROGRESS, algorithm=TEXT, rule1=FLAG, rule23=FLAG, collect_timings=FLAG,
+          threads=[*COUNT, None])),
     ("GeodesicSolver.path_to_vertex", SOLVER.path_to_vertex, {}, dict(vertex=INDEX)),
     ("GeodesicSolver.path_to_target", SOLVER.path_to_target, {}, dict(target=[*COUNT, None])),
+    ("GeodesicSolver.distance_at", SOLVER.distance_at, dict(points=0),
+     dict(points=[*INDICES, None, exactgeo.SurfacePoints([9], [[1.0, 0, 0]])])),
+    ("GeodesicSolver.path_to_point", SOLVER.path_to_point, dict(point=0),
+     dict(point=[*INDEX, 9, exactgeo.SurfacePoint(0, (0.5, 0.5, 0.5))])),
     ("distance", exactgeo.distance, dict(mesh=MESH, sources=0),
      dict(mesh=MESH_ARGUMENT, sources=INDICES, targets=INDICES, max_distance=OPTIONAL_REAL, targets_beyond=[None, 1],
           return_nearest=FLAG, progress=PROGRESS, threads=COUNT, rule1=FLAG)),

@@ -168,6 +168,18 @@ std::optional<std::uint32_t> first_boundary_vertex(const exactgeo::MeshSoup& sou
   return std::nullopt;
 }
 
+exactgeo::SurfacePoint random_face_point(const exactgeo::MeshSoup& soup, Random& random, int zeros) {
+  std::uint32_t face;
+  do face = random.below(face_count(soup));
+  while (repeats_a_vertex(soup, face));
+  const double u = random.uniform(0, 1), v = random.uniform(0, 1);
+  std::array<double, 3> b = {std::min(u, v), std::max(u, v) - std::min(u, v), 1 - std::max(u, v)};
+  if (zeros >= 1) b = {u, 1 - u, 0};  // on an edge
+  if (zeros >= 2) b = {1, 0, 0};      // at a corner
+  std::rotate(b.begin(), b.begin() + random.below(3), b.end());
+  return {face, b};
+}
+
 std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t seed) {
   UnionFind pieces(face_count(soup));
   for (const auto& [edge, faces] : faces_of_edges(soup))

@@ -17,6 +17,7 @@
 
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/mesh.hpp"
+#include "exactgeo/surface_point.hpp"
 
 namespace exactgeo_test {
 
@@ -102,6 +103,10 @@ std::optional<std::uint32_t> first_boundary_vertex(const exactgeo::MeshSoup& sou
 // the largest piece of the mesh, pieces being faces joined across edges shared by exactly two faces (the
 // joins the mesh policy keeps). The same seed gives the same vertex on every platform.
 std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t seed);
+
+// A uniformly random point of a random triangle that repeats no vertex (one the mesh policy keeps): inside
+// it (zeros 0), on one of its edges (1) or at one of its corners (2).
+exactgeo::SurfacePoint random_face_point(const exactgeo::MeshSoup& soup, Random& random, int zeros);
 
 // ---- Random meshes (seeded property tests) -------------------------------------------------------------
 
