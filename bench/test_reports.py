@@ -12,7 +12,18 @@ from pathlib import Path
 
 import pytest
 
-from reports import anisotropy, distributed, end_to_end, many_sources, pairs, peers, python_level, queries, threads, variants
+from reports import (
+    anisotropy,
+    distributed,
+    end_to_end,
+    many_sources,
+    pairs,
+    peers,
+    python_level,
+    queries,
+    threads,
+    variants,
+)
 
 kResults = Path(__file__).resolve().parent / "results"
 kWriters = {"full": peers, "paper": variants, "anisotropy": anisotropy, "python-level": python_level,
