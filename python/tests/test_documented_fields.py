@@ -29,7 +29,11 @@ DISTANCE_FLAGS = {
     "max_distance": "--max-distance",
     "collect_timings": "--timers",
     "threads": "--threads",
+    "keep_windows": "--query-points",  # the queries after the run are what keeping the windows is for
 }
+# Options that are arguments of their own in Python rather than keyword options of AlgorithmOptions:
+# max_distance of every call, keep_windows of GeodesicSolver.solve (the run that distance_at queries).
+OWN_ARGUMENTS = {"max_distance", "keep_windows"}
 
 # Names the guide's paragraphs may write in backquotes besides the fields: the package's public names and the
 # attributes of a result (`stats`).
@@ -85,7 +89,7 @@ def test_every_option_has_a_flag_of_the_distance_command():
 
 
 def test_every_option_is_a_keyword_argument_with_a_comment():
-    assert set(exactgeo.AlgorithmOptions.__annotations__) | {"max_distance"} == OPTION_FIELDS
+    assert set(exactgeo.AlgorithmOptions.__annotations__) | OWN_ARGUMENTS == OPTION_FIELDS
     uncommented = sorted(name for name in exactgeo.AlgorithmOptions.__annotations__ if not has_comment(name))
     assert not uncommented, f"AlgorithmOptions: no comment says what {uncommented} do"
 
@@ -93,7 +97,7 @@ def test_every_option_is_a_keyword_argument_with_a_comment():
 def test_the_guide_lists_every_option_and_only_options():
     paragraph = guide_paragraph("**Options**")
     named = names_in_backquotes(paragraph)
-    missing = sorted(OPTION_FIELDS - {"max_distance"} - named)  # max_distance: an argument of its own
+    missing = sorted(OPTION_FIELDS - OWN_ARGUMENTS - named)
     assert not missing, f"docs/python.md's Options paragraph does not name {missing}"
     unknown = sorted(named - OPTION_FIELDS - OTHER_NAMES)
     assert not unknown, f"docs/python.md's Options paragraph names {unknown}, which are no options"
