@@ -1,0 +1,100 @@
+// The shadow cone of a pseudo-source (paper Section 5.2, "Saddle Vertices"): the directions around a vertex
+// into which a shortest path that arrived there can go on, at least pi from its arrival direction on both
+// sides, and the part of each opposite edge that rays in those directions reach. Only these get windows when
+// the vertex emits. Inline: the engine asks once per emission.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+#include "surface_mesh.hpp"
+#include "tolerances.hpp"
+#include "vtp_engine.hpp"
+
+namespace exactgeo::detail {
+
+// A set of directions around a vertex, as fan angles (SurfaceMesh::fan_angle_start), in up to two intervals.
+class ShadowCone {
+ public:
+  static ShadowCone everything() { return ShadowCone({{{-HUGE_VAL, HUGE_VAL}, {0.0, 0.0}}}, 1, 0.0); }
+
+  // The directions at least pi away on both sides from the arrival direction `arrival`, around a fan of
+  // `total` angle that is closed (an interior vertex) or open (a boundary vertex, angles in [0, total]).
+  static ShadowCone behind(double arrival, double total, bool closed) {
+    if (closed)  // one interval, to be compared modulo the total angle
+      return ShadowCone({{{arrival + std::numbers::pi - kShadowConeSlack,
+                           arrival + total - std::numbers::pi + kShadowConeSlack},
+                          {0.0, 0.0}}},
+                        1, total);
+    return ShadowCone({{{arrival + std::numbers::pi - kShadowConeSlack, HUGE_VAL},
+                        {-HUGE_VAL, arrival - std::numbers::pi + kShadowConeSlack}}},
+                      2, 0.0);
+  }
+
+  // The part [b0, b1] of the edge opposite to corner c (in the frame of halfedge next(c)) that rays from
+  // the vertex in these directions reach; b1 <= b0 if none. Two separate parts are merged into one span:
+  // a wider window is redundant, never wrong.
+  std::pair<double, double> part_of_opposite_edge(const SurfaceMesh& mesh, std::uint32_t c) const {
+    const double corner_angle = mesh.corner_angle[c];
+    const double start = mesh.fan_angle_start[c];
+    double lowest = HUGE_VAL, highest = -HUGE_VAL;
+    for (int i = 0; i < count_; ++i) {
+      for (int wrap = -1; wrap <= 1; ++wrap) {
+        if (wrap != 0 && period_ == 0) continue;
+        const double a0 = std::max(intervals_[i][0] + wrap * period_, start);
+        const double a1 = std::min(intervals_[i][1] + wrap * period_, start + corner_angle);
+        if (a1 < a0) continue;
+        lowest = std::min(lowest, a0 - start);
+        highest = std::max(highest, a1 - start);
+      }
+    }
+    if (lowest > highest) return {0.0, 0.0};
+    if (!mesh.corner_enters_forward[c]) {  // fan angles run from the corner's other edge
+      const double flipped_low = corner_angle - highest;
+      highest = corner_angle - lowest;
+      lowest = flipped_low;
+    }
+    // A ray at angle phi from edge c meets the opposite edge XY at |vX| sin(phi) / sin(phi + angle at X).
+    const std::uint32_t opposite = next_halfedge(c);
+    const HalfedgeGeometry& o = mesh.halfedges[opposite];
+    const double angle_at_x = mesh.corner_angle[opposite];
+    const double to_x = mesh.halfedges[c].length;
+    auto hit = [&](double phi) {
+      if (phi <= 0) return 0.0;
+      if (phi >= corner_angle) return o.length;
+      return std::clamp(to_x * std::sin(phi) / std::sin(phi + angle_at_x), 0.0, o.length);
+    };
+    return {hit(lowest), hit(highest)};
+  }
+
+ private:
+  ShadowCone(std::array<std::array<double, 2>, 2> intervals, int count, double period)
+      : intervals_(intervals), count_(count), period_(period) {}
+  std::array<std::array<double, 2>, 2> intervals_;
+  int count_;
+  double period_;  // the fan's total angle for a closed fan, 0 for an open one
+};
+
+// The directions around v (as fan angles, see SurfaceMesh) into which a shortest path arriving at v as
+// `a` says can continue without being shortcut: at least pi from the arrival direction on both sides.
+inline ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Arrival& a) {
+  if (a.halfedge == kNone || !mesh.fan_angles_reliable[v]) return ShadowCone::everything();
+  // The path reaches v = apex(h) from the point where it crosses h, or straight from the pseudo-source in
+  // the face; measure that direction in v's corner of face(h), from its edge towards tail(h), then as a fan
+  // angle.
+  const HalfedgeGeometry& g = mesh.halfedges[a.halfedge];
+  const bool crosses = !std::isnan(a.crossing);
+  const double to_a_x = -g.apex_x, to_a_y = -g.apex_y;
+  const double to_t_x = (crosses ? a.crossing : a.px) - g.apex_x, to_t_y = (crosses ? 0.0 : a.py) - g.apex_y;
+  const double local = std::atan2(std::abs(to_a_x * to_t_y - to_a_y * to_t_x), to_a_x * to_t_x + to_a_y * to_t_y);
+  const std::uint32_t corner = prev_halfedge(a.halfedge);  // leaves v towards tail(h)
+  const double corner_angle = mesh.corner_angle[corner];
+  const double arrival = mesh.fan_angle_start[corner] +
+                         (mesh.corner_enters_forward[corner] ? local : corner_angle - local);
+  return ShadowCone::behind(arrival, mesh.fan_total_angle[v], mesh.fan_closed[v]);
+}
+
+}  // namespace exactgeo::detail
