@@ -12,12 +12,12 @@ from pathlib import Path
 
 import pytest
 
-from reports import anisotropy, distributed, end_to_end, many_sources, peers, python_level, threads, variants
+from reports import anisotropy, distributed, end_to_end, many_sources, pairs, peers, python_level, threads, variants
 
 kResults = Path(__file__).resolve().parent / "results"
 kWriters = {"full": peers, "paper": variants, "anisotropy": anisotropy, "python-level": python_level,
             "many-sources": many_sources, "threads": threads, "threads-sub2": threads, "distributed": distributed,
-            "distributed-memory": distributed, "end-to-end": end_to_end}
+            "distributed-memory": distributed, "end-to-end": end_to_end, "pairs": pairs}
 
 
 def cells_spaced_alike(text: str) -> str:

@@ -1,6 +1,6 @@
-// The commands of the exactgeo tool. Each lives in a file of its own (distance.cpp, path.cpp, ...) that owns
-// its options, registers them on the app and runs the command; main.cpp lists the commands and maps errors
-// to exit codes. A new command is one new file and one line in main.cpp's list.
+// The commands of the exactgeo tool. Each lives in a file of its own in commands/ (distance.cpp, path.cpp, ...)
+// that owns its options, registers them on the app and runs the command; main.cpp lists the commands and maps
+// errors to exit codes. A new command is one new file and one line in main.cpp's list.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -30,5 +30,6 @@ Command add_sample_command(CLI::App& app);
 Command add_matrix_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_locate_command(CLI::App& app);
+Command add_pairs_command(CLI::App& app);
 
 }  // namespace exactgeo::cli

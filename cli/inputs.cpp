@@ -379,6 +379,43 @@ std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>&
   return targets;
 }
 
+Pairs read_pairs(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh, const std::string& option) {
+  Pairs pairs;
+  for (const std::string& argument : arguments) {
+    const ListInput input = read_list_input(argument, option);
+    if (input.npy) {
+      const std::vector<std::uint32_t> vertices = read_npy_indices(input.bytes, input.origin, 2);
+      for (std::size_t i = 0; i < vertices.size(); ++i) {
+        const std::string element =
+            input.origin + ": element [" + std::to_string(i / 2) + ", " + std::to_string(i % 2) + "]";
+        (i % 2 == 0 ? pairs.a : pairs.b).push_back(listed_vertex_point(mesh, vertices[i], element));
+      }
+      continue;
+    }
+    std::string text = input.bytes;
+    std::replace(text.begin(), text.end(), ';', '\n');
+    std::istringstream lines(text);
+    bool first = true;
+    std::size_t row = 0;
+    for (std::string line; std::getline(lines, line);) {
+      ++row;
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      const bool header = first && std::ranges::none_of(line, [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+      first = false;
+      if (header) continue;
+      const std::string where = input.origin + ": line " + std::to_string(row);
+      const std::vector<exactgeo::SurfacePoint> points = parse_targets(line, mesh, where);
+      if (points.size() != 2)
+        throw invalid_argument(where + ": " + token_text(line) +
+                               " is not a pair (two vertex indices or points F:b0,b1,b2)");
+      pairs.a.push_back(points[0]);
+      pairs.b.push_back(points[1]);
+    }
+  }
+  if (pairs.a.empty()) throw invalid_argument(option + ": no pair given");
+  return pairs;
+}
+
 exactgeo::LocateResult locate_listed(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
                                      const std::string& origin, unsigned threads) {
   std::vector<double> xyz;

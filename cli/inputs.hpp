@@ -86,6 +86,16 @@ std::vector<exactgeo::SurfacePoint> parse_targets(const std::string& text, const
 std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>& arguments,
                                                  const exactgeo::Mesh& mesh, const std::string& option);
 
+// Pairs of points (pairs --pairs): each value a list of pairs, a file holding one or "-" (standard input).
+// As text, pairs are separated by newlines or ';' and each is two points as targets are written (vertex
+// indices or points F:b0,b1,b2, separated by spaces, or by a comma between vertex indices; a first line
+// without a digit, such as a CSV header a,b, is skipped); or a .npy array of shape (n, 2) of vertex indices of
+// any integer dtype.
+struct Pairs {
+  std::vector<exactgeo::SurfacePoint> a, b;
+};
+Pairs read_pairs(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh, const std::string& option);
+
 // Points in space, as --points, --source-xyz and --target-xyz take them: X,Y,Z (or X Y Z), points separated
 // by newlines or ';'. `text` is a file's contents (standard input's for -) or the argument itself: a point cloud's .xyz lines or a CSV
 // file of x,y,z, whose header (a first line without numbers) is skipped. Returns x0 y0 z0 x1 ...; `origin`

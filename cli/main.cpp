@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(kExitCodesHelp);
   const std::array commands = {add_distance_command(app), add_path_command(app), add_sample_command(app),
-                               add_matrix_command(app), add_info_command(app), add_locate_command(app)};
+                               add_matrix_command(app), add_info_command(app), add_locate_command(app),
+                               add_pairs_command(app)};
 
   // CLI11 reports a mistyped command only as "A subcommand is required"; name it instead.
   std::string names;

@@ -293,7 +293,7 @@ void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arr
 
 // place_new_window, with other threads running.
 void VtpEngine::place_concurrently(std::uint32_t g, const Window& w, unsigned thread) {
-  if (beyond_cutoff(w)) return;
+  if (beyond_cutoff(w, goal_across(g))) return;
   const SpinGuard guard(parallel_->face_locks[face_of(g)]);
   if (face_inside(face_of(g))) {
     lists_.append(g, {&w, 1}, thread);

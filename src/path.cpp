@@ -334,6 +334,20 @@ class PathBuilder {
 };
 
 }  // namespace
+
+GeodesicPath trace_to_target(const Mesh& mesh, const VtpEngine& engine, std::size_t target) {
+  const LocatedPoint& point = engine.targets()[target];
+  const SurfaceMesh& surface = mesh.surface();
+  if (point.vertex != kNone)  // that input vertex, through the copy that has its distance
+    return PathBuilder(mesh, engine)
+        .trace_vertex(surface.nearest_copy(surface.surface_to_input[point.vertex], engine.distances()));
+  PathPointLocation location;
+  location.kind = PathPointLocation::Kind::face;
+  location.face_point = {surface.surface_face_to_input[point.face], point.barycentric};
+  return PathBuilder(mesh, engine)
+      .trace(point_position(mesh, location.face_point), location, engine.target_arrivals()[target]);
+}
+
 }  // namespace detail
 
 GeodesicPath GeodesicSolver::path_to_vertex(std::uint32_t vertex) const {
@@ -358,12 +372,7 @@ GeodesicPath GeodesicSolver::path_to_target(std::size_t target) const {
   // its distance.
   if (point.vertex != detail::kNone) return path_to_vertex(mesh_->surface().surface_to_input[point.vertex]);
   if (std::isinf(result_.target_distances[target])) return {};
-  PathPointLocation location;
-  location.kind = PathPointLocation::Kind::face;
-  location.face_point = {mesh_->surface().surface_face_to_input[point.face], point.barycentric};
-  GeodesicPath path = detail::PathBuilder(*mesh_, *engine_)
-                          .trace(point_position(*mesh_, location.face_point), location,
-                                 engine_->target_arrivals()[target]);
+  GeodesicPath path = detail::trace_to_target(*mesh_, *engine_, target);
   path.source = result_.target_nearest_source[target];
   return path;
 }

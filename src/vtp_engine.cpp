@@ -80,6 +80,17 @@ class ShadowCone {
   double period_;  // the fan's total angle for a closed fan, 0 for an open one
 };
 
+// A located point's position in space, in the engine's frame.
+std::array<double, 3> engine_position(const SurfaceMesh& mesh, const LocatedPoint& point) {
+  if (point.vertex != kNone) return mesh.position(mesh.surface_to_input[point.vertex]);
+  std::array<double, 3> sum{};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const std::array<double, 3> corner = mesh.position(mesh.surface_to_input[mesh.corner_vertex[3 * point.face + k]]);
+    for (std::uint32_t i = 0; i < 3; ++i) sum[i] += point.barycentric[k] * corner[i];
+  }
+  return sum;
+}
+
 // Vertex (or face) pops between two progress reports and checks for a stop request: a few milliseconds.
 constexpr std::uint64_t kProgressInterval = 4096;
 
@@ -155,6 +166,9 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   emit_queue_.clear();
   iteration_ = 0;
   register_targets(targets);
+  // The parallel bands keep the plain order: pair_distances runs each search on one thread.
+  has_goal_ = goal_directed_ && targets_.size() == 1 && threads_ == 1;
+  if (has_goal_) goal_ = engine_position(mesh_, targets_[0]);
   lists_.reset(mesh_.halfedges.size(), threads_,
                [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
   stats_.threads = threads_;
@@ -294,7 +308,8 @@ void VtpEngine::join_face(std::uint32_t f) {
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const std::uint32_t g = mesh_.twin[h];
     if (g == kNone || face_visited_at_[face_of(g)] != kNone || face_queue_.contains(face_of(g))) continue;
-    const double key = std::max(distance_[mesh_.tail(h)], distance_[mesh_.head(h)]);
+    const double key = std::max(distance_[mesh_.tail(h)], distance_[mesh_.head(h)]) +
+                       (has_goal_ ? goal_gap(mesh_.apex(g)) : 0.0);
     const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
     face_queue_.push_or_decrease(face_of(g), key);
   }
@@ -345,7 +360,7 @@ void VtpEngine::start_point_source(std::uint32_t site) {
 // The queue push, out of line (and timed when asked): relax runs for every list crossing and stays small.
 void VtpEngine::push_vertex(std::uint32_t v, double d) {
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-  vertex_queue_.push_or_decrease(v, d);
+  vertex_queue_.push_or_decrease(v, has_goal_ ? d + goal_gap(v) : d);
 }
 
 // v's distance as it stands, while other threads may be lowering it (under v's lock).
@@ -377,16 +392,52 @@ void VtpEngine::schedule(std::uint32_t h) {
   pending_.push_back(h);
 }
 
-// A window no point of which lies within the cut-off can only lead further away.
-bool VtpEngine::beyond_cutoff(const Window& w) const {
+// A window no point of which lies within the cut-off can only lead further away. In a goal-directed run, a
+// window no path through which reaches the goal within the cut-off (docs/pairs.md): a path through edge point
+// X = (x, 0) is at least w.sigma + |p - X| long to X and |X - goal| from there, and the sum is smallest where
+// the straight line from p (below the edge's line, py <= 0) to the goal unfolded above it crosses the line.
+bool VtpEngine::beyond_cutoff(const Window& w, const GoalAcross& goal) const {
   if (cutoff_ == HUGE_VAL) return false;
-  return w.sigma + length(std::clamp(w.px, w.b0, w.b1) - w.px, w.py) > cutoff_ + tolerances_.prune;
+  if (!goal.set) return w.sigma + length(std::clamp(w.px, w.b0, w.b1) - w.px, w.py) > cutoff_ + tolerances_.prune;
+  const double below = -std::abs(w.py);  // |p - X| is the same on either side of the line
+  const double rise = goal.y - below;
+  const double crossing = rise > 0 ? w.px + (goal.x - w.px) * (-below / rise) : w.px;
+  const double x = std::clamp(crossing, w.b0, w.b1);
+  return w.sigma + length(x - w.px, below) + length(goal.x - x, goal.y) > cutoff_ + tolerances_.prune;
+}
+
+// Rotated about the edge's line into the halfedge's plane, on the side away from the pseudo-sources: x along
+// the edge from its tail, y the distance from the line (as a cross product, which keeps it accurate when the
+// goal lies near the line).
+VtpEngine::GoalAcross VtpEngine::goal_across(std::uint32_t h) const {
+  if (!has_goal_) return {};
+  const std::array<double, 3> a = mesh_.position(mesh_.surface_to_input[mesh_.tail(h)]);
+  const std::array<double, 3> b = mesh_.position(mesh_.surface_to_input[mesh_.head(h)]);
+  const double length = mesh_.halfedges[h].length;
+  if (!(length > 0)) return {0.0, goal_gap(mesh_.tail(h)), true};
+  const double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double q[3] = {goal_[0] - a[0], goal_[1] - a[1], goal_[2] - a[2]};
+  const double c[3] = {e[1] * q[2] - e[2] * q[1], e[2] * q[0] - e[0] * q[2], e[0] * q[1] - e[1] * q[0]};
+  return {(e[0] * q[0] + e[1] * q[1] + e[2] * q[2]) / length, std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / length,
+          true};
+}
+
+double VtpEngine::goal_gap(std::uint32_t v) const {
+  const std::array<double, 3> p = mesh_.position(mesh_.surface_to_input[v]);
+  const double dx = p[0] - goal_[0], dy = p[1] - goal_[1], dz = p[2] - goal_[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+// In a goal-directed run, every path through v to the goal is at least d plus the straight line from v.
+bool VtpEngine::emission_beyond_cutoff(std::uint32_t v, double d) const {
+  if (!has_goal_) return d > cutoff_;
+  return cutoff_ < HUGE_VAL && d + goal_gap(v) > cutoff_ + tolerances_.prune;
 }
 
 // A window just created on g (by a pseudo-source or a source point): it waits on the wavefront, or moves on
 // at once if g's face is already traversed.
 void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
-  if (beyond_cutoff(w)) return;
+  if (beyond_cutoff(w, goal_across(g))) return;
   if (face_visited_at_[face_of(g)] != kNone) {
     lists_.append(g, {&w, 1}, 0);
     schedule(g);
@@ -406,7 +457,8 @@ FaceFrame VtpEngine::face_frame(std::uint32_t h) const {
 // priority (the distance to the corner opposite g) forward.
 void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
   if (arriving.empty()) return;
-  const double key = reach_apex(arriving, face_frame(g), key_splits_).distance;
+  const double key =
+      reach_apex(arriving, face_frame(g), key_splits_).distance + (has_goal_ ? goal_gap(mesh_.apex(g)) : 0.0);
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
   face_queue_.push_or_decrease(face_of(g), key);
 }
@@ -418,7 +470,7 @@ void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
 // a sliver. Sources, and vertices without reliable angles, send windows everywhere.
 void VtpEngine::emit(std::uint32_t v) {
   EXACTGEO_ASSERT(distance_[v] < HUGE_VAL);  // it was reached: queued, or enclosed with a distance
-  if (distance_[v] > cutoff_) return;
+  if (emission_beyond_cutoff(v, distance_[v])) return;
   emitted_at_[v] = distance_[v];
   ++stats_.pseudo_source_emissions;
   for_each_emission_part(
@@ -437,7 +489,7 @@ void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
     emit_scheduled_[v] = 0;
     d = distance_[v];
     arrival = arrival_[v];
-    if (!(lowered_since_emission(v, d) && d <= cutoff_)) return;
+    if (!lowered_since_emission(v, d) || emission_beyond_cutoff(v, d)) return;
     emitted_at_[v] = d;
   }
   ++parallel_->scratch[thread].stats.pseudo_source_emissions;
@@ -625,7 +677,10 @@ VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> w
   if (g == kNone) return {kNone, Joining::inside, 0};  // a boundary edge: the windows leave the surface
   const bool reversed = mesh_.tail(g) != origin;
   auto kept = windows.end();
-  if (cutoff_ < HUGE_VAL) kept = std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w); });
+  if (cutoff_ < HUGE_VAL) {
+    const GoalAcross goal = goal_across(g);
+    kept = std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w, goal); });
+  }
   Joining joining;
   if (face_inside(face_of(g)))
     joining = Joining::inside;

@@ -11,9 +11,10 @@
 // Generalisations over the paper, each costing nothing when unused: sources at points inside faces and on
 // edges, a distance cut-off (windows that cannot reach below it are dropped), target points whose distances
 // are evaluated as window lists cross their faces (the cut-off then shrinks to the farthest target), and
-// per-vertex arrivals from which paths are traced back.
+// per-vertex arrivals from which paths are traced back, and goal-directed runs towards one target (docs/pairs.md).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -64,6 +65,11 @@ class VtpEngine {
   void run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
            const GeodesicOptions& options);
   void set_progress(std::function<void(double)> callback) { progress_ = std::move(callback); }
+  // Goal-directed runs (docs/pairs.md): from the next run on, a run with exactly one target on one thread orders
+  // its wavefront by distance plus the straight-line distance to the target (A*), and drops a window or a
+  // pseudo-source's emission once no path through it can reach the target within the cut-off. Only the
+  // target's distance is then exact: vertex distances are upper bounds, exact along its shortest path.
+  void set_goal_directed(bool on) { goal_directed_ = on; }
 
   // Distances above the cut-off are not final: reported as +inf. Lengths are in the mesh's engine frame
   // (SurfaceMesh::scale_exponent).
@@ -146,7 +152,17 @@ class VtpEngine {
   SideExit exit_through(std::uint32_t side, std::uint32_t origin) const;
   static void join(std::span<Window> list, std::size_t added, Joining joining);
   void place_new_window(std::uint32_t g, const Window& w);
-  bool beyond_cutoff(const Window& w) const;
+  // The goal of a goal-directed run seen from a halfedge's frame: at (x, y), y >= 0, as far from every point
+  // of the edge's line as it is in space. Unset outside goal-directed runs.
+  struct GoalAcross {
+    double x = 0, y = 0;
+    bool set = false;
+  };
+  GoalAcross goal_across(std::uint32_t h) const;
+  double goal_gap(std::uint32_t v) const;  // straight-line distance from surface vertex v to the goal
+  // Whether a pseudo-source at distance d cannot lead to anything within the cut-off.
+  bool emission_beyond_cutoff(std::uint32_t v, double d) const;
+  bool beyond_cutoff(const Window& w, const GoalAcross& goal) const;
 
   void register_targets(std::span<const LocatedPoint> targets);
   void evaluate_targets(std::uint32_t h, std::span<const Window> list);
@@ -208,7 +224,16 @@ class VtpEngine {
   std::vector<std::uint32_t> face_target_offsets_, face_targets_;  // per surface face, empty without targets
   std::vector<std::uint8_t> is_target_vertex_;                      // per surface vertex, empty without
   bool targets_changed_ = false;
+
+  // Goal-directed runs: asked for (set_goal_directed), and in force for the run under way, towards goal_ (the
+  // one target's position in the engine's frame).
+  bool goal_directed_ = false, has_goal_ = false;
+  std::array<double, 3> goal_{};
 };
+
+// The shortest path of the engine's last run to its target `target`, whose distance is finite (path.cpp): to a
+// target at a vertex, through the copy of that input vertex with the smallest distance.
+GeodesicPath trace_to_target(const Mesh& mesh, const VtpEngine& engine, std::size_t target);
 
 // A path of length d, shorter than v's distance, reaches v: the one rule of relax and relax_concurrently, which
 // hold v. Outside the traversed area v is queued (queue()); inside, a pseudo-source lowered enough since it

@@ -38,13 +38,11 @@ struct HeightField {
 // make_grid(n, n, 1, 1) with heights: +-amplitude alternating like a checkerboard over the vertices, or
 // uniform random in [-amplitude, amplitude].
 HeightField height_field(int n, double amplitude, bool checkerboard, std::uint64_t seed) {
-  MeshSoup soup = exactgeo::make_grid(n, n, 1.0, 1.0);
+  MeshSoup soup = exactgeo_test::checkerboard_height_field(n, amplitude);
   Random random(seed);
-  for (std::size_t v = 0; v < exactgeo_test::vertex_count(soup); ++v) {
-    const double x = soup.positions[3 * v], y = soup.positions[3 * v + 1];
-    soup.positions[3 * v + 2] = checkerboard ? amplitude * (std::lround(n * x + n * y) % 2 == 0 ? 1 : -1)
-                                             : amplitude * random.uniform(-1, 1);
-  }
+  if (!checkerboard)
+    for (std::size_t v = 0; v < exactgeo_test::vertex_count(soup); ++v)
+      soup.positions[3 * v + 2] = amplitude * random.uniform(-1, 1);
   return {std::string(checkerboard ? "checkerboard" : "bumps") + " " + std::to_string(n) + "x" + std::to_string(n) +
               " amplitude " + std::to_string(amplitude),
           std::move(soup)};

@@ -6,6 +6,7 @@
 #include "exactgeo/io.hpp"
 #include "exactgeo/many_sources.hpp"
 #include "exactgeo/mesh.hpp"
+#include "exactgeo/pairs.hpp"
 #include "exactgeo/shapes.hpp"
 #include "exactgeo/surface_point.hpp"
 #include "exactgeo/version.hpp"

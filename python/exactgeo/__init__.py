@@ -15,6 +15,7 @@ from ._geodesic import ALGORITHMS, AlgorithmOptions, GeodesicPath, GeodesicResul
 from ._isolines import isolines
 from ._many_sources import Sampling, distance_matrix, farthest_point_sampling
 from ._mesh import Mesh
+from ._pairs import pair_distances
 from ._pictures import plot, save_ply, save_vtk
 from ._shapes import make_bumpy_torus, make_grid, make_icosphere, subdivide_midpoint
 from ._surface_point import SurfacePoint, SurfacePoints, edge_point, locate, point_position, vertex_point
@@ -41,6 +42,7 @@ __all__ = [
     "make_bumpy_torus",
     "make_grid",
     "make_icosphere",
+    "pair_distances",
     "path",
     "plot",
     "point_position",

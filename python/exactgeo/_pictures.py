@@ -16,7 +16,7 @@ from ._mesh import Mesh, checked_mesh
 
 Colormap = Union[str, Callable[[np.ndarray], np.ndarray]]
 
-# The built-in ramp when matplotlib is absent, the same as the command line's .ply output (cli/outputs.cpp):
+# The built-in ramp when matplotlib is absent, the same as the command line's .ply output (cli/formats/outputs.cpp):
 # five colours of viridis at 0, 1/4, 1/2, 3/4 and 1, interpolated linearly in RGB in between.
 RAMP = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=np.float64)
 GREY = np.array([128, 128, 128], dtype=np.uint8)  # inf and NaN, as in the command line's .ply

@@ -115,13 +115,17 @@ def source_sites(sources: Any, mesh: Mesh) -> np.ndarray | SurfacePoints:
     return _as_surface_points(sources)
 
 
-def target_points(targets: Any, mesh: Mesh) -> SurfacePoints:
-    """Targets are points: a vertex target is the point at the vertex (which is the vertex, all its copies)."""
+def target_points(targets: Any, mesh: Mesh, what: str = "targets", item: str = "target") -> SurfacePoints:
+    """Targets are points: a vertex target is the point at the vertex (which is the vertex, all its copies).
+
+    `what` names the argument and `item` its elements in messages ("target 3: vertex 99 is out of range")."""
     if not holds_points(targets):
-        vertices = _inputs.vertex_array(targets, mesh.vertex_count, "targets", lambda i: f"target {i}: vertex")
-        return SurfacePoints(*_core.vertex_points(mesh._core, vertices, "target"))
+        vertices = _inputs.vertex_array(targets, mesh.vertex_count, what, lambda i: f"{item} {i}: vertex")
+        return SurfacePoints(*_core.vertex_points(mesh._core, vertices, item))
     if isinstance(targets, Sequence):
-        targets = [t if isinstance(t, SurfacePoint) else _vertex_target(mesh, i, t) for i, t in enumerate(targets)]
+        targets = [
+            t if isinstance(t, SurfacePoint) else _vertex_target(mesh, i, t, item) for i, t in enumerate(targets)
+        ]
     return _as_surface_points(targets)
 
 
@@ -145,11 +149,11 @@ def _as_surface_points(points: Any) -> SurfacePoints:
     return SurfacePoints.of([points] if isinstance(points, SurfacePoint) else points)
 
 
-def _vertex_target(mesh: Mesh, index: int, vertex: int) -> SurfacePoint:
+def _vertex_target(mesh: Mesh, index: int, vertex: int, item: str) -> SurfacePoint:
     try:
         return vertex_point(mesh, vertex)
     except ValueError as error:
-        raise ValueError(f"target {index}: {error}") from None
+        raise ValueError(f"{item} {index}: {error}") from None
 
 
 def vertex_point(mesh: Mesh, vertex: int) -> SurfacePoint:

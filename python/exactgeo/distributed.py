@@ -35,7 +35,7 @@ again, replacing whatever data they left (a block being written again loses its 
 the source, target and mesh arrays against the settings; a run with verify=True computes those blocks and
 writes those arrays again.
 
-The command `exactgeo matrix --out STORE --shard I/N` (cli/zarr_store.cpp) writes this same layout (format
+The command `exactgeo matrix --out STORE --shard I/N` (cli/formats/zarr_store.cpp) writes this same layout (format
 v3), so either can continue a store the other began. The store is built in a hidden folder beside its place and
 renamed into it; an error or an interrupt (Ctrl-C) while building it removes that folder.
 """
@@ -142,7 +142,7 @@ def _open_array(path: Path, mode: str = "r") -> Any:
     return _zarr().open_array(store=str(path), mode=mode)
 
 
-# Every array is stored uncompressed, its chunks raw little-endian bytes: the command (cli/zarr_store.cpp) writes
+# Every array is stored uncompressed, its chunks raw little-endian bytes: the command (cli/formats/zarr_store.cpp) writes
 # blocks into `distances` and reads every array back to verify it.
 
 

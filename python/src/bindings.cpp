@@ -675,6 +675,26 @@ NB_MODULE(_core, m) {
       "mesh"_a, "sources"_a.noconvert(), "targets"_a.noconvert(), "has_targets"_a, "options"_a, "threads"_a,
       "progress"_a.none());
 
+  // Distances (and paths) between pairs of points, each from a search of its own, on `threads` threads.
+  m.def(
+      "pair_distances",
+      [](const exactgeo::Mesh& mesh, const IndexArray& a_faces, const PointArray& a_barycentric,
+         const IndexArray& b_faces, const PointArray& b_barycentric, exactgeo::GeodesicOptions options,
+         unsigned threads, bool return_paths) {
+        const std::vector<exactgeo::SurfacePoint> a = surface_points(a_faces, a_barycentric);
+        const std::vector<exactgeo::SurfacePoint> b = surface_points(b_faces, b_barycentric);
+        exactgeo::PairResult result = run_interruptibly(nb::none(), [&](std::stop_token stop, ProgressCounter&) {
+          options.stop = stop;
+          return exactgeo::pair_distances(mesh, a, b, {.geodesic = options, .threads = threads, .return_paths = return_paths});
+        });
+        nb::list paths;
+        for (const exactgeo::GeodesicPath& path : result.paths) paths.append(path_arrays(path, mesh));
+        const std::size_t n = result.distances.size();
+        return std::make_tuple(to_numpy(std::move(result.distances), {n}), paths);
+      },
+      "mesh"_a, "a_faces"_a.noconvert(), "a_barycentric"_a.noconvert(), "b_faces"_a.noconvert(),
+      "b_barycentric"_a.noconvert(), "options"_a, "threads"_a, "return_paths"_a);
+
   m.def(
       "farthest_point_sampling",
       [](const exactgeo::Mesh& mesh, std::size_t count, const IndexArray& first, exactgeo::GeodesicOptions options,

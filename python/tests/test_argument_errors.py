@@ -35,7 +35,7 @@ PROGRESS = ["yes", 1]
 
 # An index out of range is named as the library names it: by the element and its position.
 ELEMENT = {"sources": "source vertex", "first": "source vertex", "targets": "target 0: vertex", "from_vertex": "edge (",
-           "to_vertex": "edge ("}
+           "to_vertex": "edge (", "a": "a 0: vertex", "b": "b 0: vertex"}
 
 
 def needs(module: str, call: Callable[..., Any]) -> Callable[..., Any]:
@@ -91,6 +91,9 @@ CALLS: list[tuple[str, Callable[..., Any], dict[str, Any], dict[str, list[Any]]]
     ("distance_matrix", exactgeo.distance_matrix, dict(mesh=MESH, sources=[0]),
      dict(mesh=MESH_ARGUMENT, sources=[*INDICES, None], targets=INDICES, max_distance=OPTIONAL_REAL,
           targets_beyond=[None, 1], threads=COUNT, progress=PROGRESS, algorithm=TEXT)),
+    ("pair_distances", exactgeo.pair_distances, dict(mesh=MESH, a=[0, 1], b=[8, 4]),
+     dict(mesh=MESH_ARGUMENT, a=[*INDICES, None, [0]], b=[*INDICES, None], return_paths=FLAG, threads=COUNT,
+          max_distance=OPTIONAL_REAL, algorithm=TEXT, rule1=FLAG)),
     ("farthest_point_sampling", exactgeo.farthest_point_sampling, dict(mesh=MESH, count=2),
      dict(mesh=MESH_ARGUMENT, count=[*COUNT, None], first=[*INDICES, None], max_distance=OPTIONAL_REAL,
           progress=PROGRESS, threads=COUNT)),

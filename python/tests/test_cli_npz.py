@@ -1,6 +1,6 @@
-"""The command's .npz (written by cli/npy.cpp, no zip library) is a valid stored zip that numpy and
+"""The command's .npz (written by cli/formats/npy.cpp, no zip library) is a valid stored zip that numpy and
 scipy.sparse.load_npz read, holding what distance_matrix computes; and the .npy index files numpy writes are
-read by the command (cli/npy.cpp too)."""
+read by the command (cli/formats/npy.cpp too)."""
 
 from __future__ import annotations
 

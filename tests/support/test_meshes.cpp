@@ -204,6 +204,15 @@ exactgeo::MeshSoup random_height_field(Random& random, int nx, int ny, double am
   return soup;
 }
 
+exactgeo::MeshSoup checkerboard_height_field(int n, double amplitude) {
+  exactgeo::MeshSoup soup = exactgeo::make_grid(n, n, 1.0, 1.0);
+  for (std::size_t v = 0; v < vertex_count(soup); ++v) {
+    const double x = soup.positions[3 * v], y = soup.positions[3 * v + 1];
+    soup.positions[3 * v + 2] = amplitude * (std::lround(n * x + n * y) % 2 == 0 ? 1 : -1);
+  }
+  return soup;
+}
+
 exactgeo::MeshSoup random_convex_polygon(Random& random, int sides, int rings) {
   // Gaps between consecutive corners that differ by less than a factor of two stay below pi for 3 or more
   // sides, so the origin is inside: a larger gap would fold the fan over itself.

@@ -109,6 +109,10 @@ std::uint32_t random_source_vertex(const exactgeo::MeshSoup& soup, std::uint64_t
 // `amplitude`: smooth (a sum of three random sine waves) or noisy (independent uniform heights).
 exactgeo::MeshSoup random_height_field(Random& random, int nx, int ny, double amplitude, bool smooth);
 
+// make_grid(n, n, 1, 1) with heights +-amplitude alternating like a checkerboard over the vertices: every
+// inner vertex a peak, a pit or a saddle, where geodesics bend.
+exactgeo::MeshSoup checkerboard_height_field(int n, double amplitude);
+
 // A flat convex polygon in the z=0 plane: `sides` corners at random angles on a random ellipse around the
 // origin, triangulated by a fan from the origin to the first of `rings` nested, scaled copies and by strips
 // between them. A geodesic on it is the straight segment between its ends.

@@ -1,7 +1,9 @@
 // exactgeo sample: geodesic farthest-point sampling of the vertices.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "command.hpp"
 #include "inputs.hpp"
@@ -24,10 +26,21 @@ int run_sample(const SampleArguments& arguments) {
   std::vector<std::uint32_t> first;
   for (const std::string& text : arguments.first) first.push_back(parse_vertex_list(text, "--first").front());
   if (first.empty()) first.push_back(0);
+  // Samples are distinct vertices (but for repeated --first ones): say so before any work.
+  if (arguments.count > std::max(loaded.mesh.vertex_count(), first.size()))
+    throw exactgeo::Error(exactgeo::ErrorCode::invalid_argument,
+                          "--count " + std::to_string(arguments.count) + " exceeds the mesh's " +
+                              std::to_string(loaded.mesh.vertex_count()) +
+                              " vertices: farthest-point samples are distinct vertices");
   Progress progress("samples", arguments.count, arguments.quiet);
   const exactgeo::Sampling sampling = exactgeo::farthest_point_sampling(
       loaded.mesh, arguments.count, first, {}, [&](std::size_t done) { progress.update(done); });
   progress.finish();
+  if (sampling.samples.size() < arguments.count)
+    std::fprintf(stderr,
+                 "exactgeo: warning: %zu of the %zu samples asked for: every vertex within reach of the first "
+                 "samples is one (the mesh has %zu vertices; the rest lie on other pieces or are unused)\n",
+                 sampling.samples.size(), arguments.count, loaded.mesh.vertex_count());
   // Without a file, one sample per line, as .txt has them.
   const SamplesWriter write = arguments.out.empty() ? kSamplesFormats[0].write : find_format(kSamplesFormats, arguments.out)->write;
   if (arguments.out.empty()) {

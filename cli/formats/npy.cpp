@@ -198,7 +198,7 @@ std::string shape_text(const std::vector<std::size_t>& shape) {
 
 bool is_npy(std::string_view bytes) { return bytes.starts_with(kNpyMagic); }
 
-std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name) {
+std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name, std::size_t columns) {
   if (!is_npy(bytes)) throw npy_error(name, "not a .npy file (it does not begin with \\x93NUMPY)");
   // Version 1.0 gives the header's length in 2 bytes; 2.0 and 3.0 (a UTF-8 header) in 4.
   constexpr std::size_t kVersionAt = 6;
@@ -234,12 +234,19 @@ std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::s
                               "a.astype(numpy.int64))");
   const std::optional<std::vector<std::size_t>> shape = parse_shape(header_field(header, "shape"));
   if (!shape) throw npy_error(name, "the .npy header has no shape, or a malformed one");
-  if (shape->size() != 1)
-    throw npy_error(name, "holds an array of shape " + shape_text(*shape) + "; indices must be a 1-D array");
-  const std::size_t count = shape->front();
-  if (count > data.size() / dtype->bytes || count * dtype->bytes != data.size())
-    throw npy_error(name, "the header says " + std::to_string(count) + " values of " + std::to_string(dtype->bytes) +
-                              " bytes, but " + std::to_string(data.size()) + " bytes of data follow it");
+  const bool table = columns > 1;
+  if (table ? shape->size() != 2 || (*shape)[1] != columns : shape->size() != 1)
+    throw npy_error(name, "holds an array of shape " + shape_text(*shape) + "; indices must be " +
+                              (table ? "an (n, " + std::to_string(columns) + ") array" : "a 1-D array"));
+  if (table && header_field(header, "fortran_order").starts_with("True"))
+    throw npy_error(name, "holds a Fortran-ordered array; save a C-ordered one (numpy.ascontiguousarray)");
+  const std::size_t rows = shape->front();
+  if (rows > data.size() / dtype->bytes / columns || rows * columns * dtype->bytes != data.size())
+    throw npy_error(name, "the header says " + std::to_string(rows) +
+                              (table ? " rows of " + std::to_string(columns) + " values" : " values") + " of " +
+                              std::to_string(dtype->bytes) + " bytes, but " + std::to_string(data.size()) +
+                              " bytes of data follow it");
+  const std::size_t count = rows * columns;
 
   const bool big_endian = dtype->order == '>' || (dtype->order == '=' && std::endian::native == std::endian::big);
   const bool is_signed = dtype->kind == 'i';
@@ -257,7 +264,9 @@ std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::s
       const std::string text = negative ? std::to_string(static_cast<std::int64_t>(
                                               bits == 64 ? value : value | (~std::uint64_t{0} << bits)))
                                         : std::to_string(value);
-      throw npy_error(name, "element [" + std::to_string(i) + "] is " + text + ", not an index (0 to " +
+      const std::string element =
+          table ? std::to_string(i / columns) + ", " + std::to_string(i % columns) : std::to_string(i);
+      throw npy_error(name, "element [" + element + "] is " + text + ", not an index (0 to " +
                                 std::to_string(std::numeric_limits<std::uint32_t>::max()) + ")");
     }
     indices[i] = static_cast<std::uint32_t>(value);

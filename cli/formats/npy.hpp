@@ -25,11 +25,12 @@ void write_npy(std::FILE* file, std::string_view descr, std::span<const std::siz
 bool is_npy(std::string_view bytes);
 
 // The values of a 1-D .npy array of integers (int8 to int64 or uint8 to uint64, either byte order; format
-// versions 1.0 to 3.0) as 32-bit indices, the library's type. `bytes` is the whole file; `name` begins every
-// message. Throws exactgeo::Error(invalid_argument) for anything else, naming the element at fault where one
-// is: not a .npy file, another dtype (floats, booleans, records), another shape, data shorter or longer than
-// the header says, a negative value or one of 2^32 or more.
-std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name);
+// versions 1.0 to 3.0) as 32-bit indices, the library's type; with `columns` above 1, of a C-ordered array of
+// shape (n, columns), row after row. `bytes` is the whole file; `name` begins every message. Throws
+// exactgeo::Error(invalid_argument) for anything else, naming the element at fault where one is: not a .npy
+// file, another dtype (floats, booleans, records), another shape or order, data shorter or longer than the
+// header says, a negative value or one of 2^32 or more.
+std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name, std::size_t columns = 1);
 
 // Little-endian bytes of values, as .npy data and Zarr chunks.
 std::vector<unsigned char> little_endian_bytes(std::span<const double> values);
