@@ -61,10 +61,13 @@ def main() -> None:
     for round_ in range(args.rounds):
         for i in range(args.pairs):
             source, target = int(a[i]), int(b[i])
-            seconds["full"][round_, i], _ = timed(lambda: solver.solve(source, threads=1))
-            seconds["named_target"][round_, i], result = timed(lambda: solver.solve(source, targets=[target], threads=1))
+            # Each lambda runs at once; the pair is bound to it all the same, as a default argument.
+            seconds["full"][round_, i], _ = timed(lambda source=source: solver.solve(source, threads=1))
+            seconds["named_target"][round_, i], result = timed(
+                lambda source=source, target=target: solver.solve(source, targets=[target], threads=1))
             named[i] = result.target_distances[0]
-            seconds["pair"][round_, i], pair = timed(lambda: exactgeo.pair_distances(mesh, [source], [target], threads=1))
+            seconds["pair"][round_, i], pair = timed(
+                lambda source=source, target=target: exactgeo.pair_distances(mesh, [source], [target], threads=1))
             paired[i] = pair[0]
         print(f"round {round_ + 1} of {args.rounds} done", flush=True)
     together = min(timed(lambda: exactgeo.pair_distances(mesh, a, b, threads=1))[0] for _ in range(args.rounds))

@@ -45,7 +45,8 @@ def write_markdown(path: Path, report: dict) -> str:
     edges = np.quantile(distances[finite], [0, 0.25, 0.5, 0.75, 1.0])
     quartile_rows = []
     for q in range(4):
-        inside = finite & (distances >= edges[q]) & ((distances < edges[q + 1]) if q < 3 else (distances <= edges[q + 1]))
+        below_top = (distances < edges[q + 1]) if q < 3 else (distances <= edges[q + 1])
+        inside = finite & (distances >= edges[q]) & below_top
         quartile_rows.append([
             f"{25 * q}–{25 * (q + 1)}%", f"{edges[q]:.4g}–{edges[q + 1]:.4g}", int(inside.sum()),
             format_seconds(float(np.median(seconds["pair"][inside]))),

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Literal, overload
 import numpy as np
 
 from . import _core, _inputs
-from ._geodesic import AlgorithmOptions, GeodesicPath, geodesic_options
+from ._geodesic import GeodesicPath, RunOptions, geodesic_options
 from ._many_sources import _workers
 from ._mesh import Mesh, checked_mesh
 from ._surface_point import Sites, target_points
@@ -25,7 +25,7 @@ def pair_distances(
     threads: int | None = None,
     *,
     max_distance: float | None = None,
-    **options: Unpack[AlgorithmOptions],
+    **options: Unpack[RunOptions],
 ) -> np.ndarray: ...
 @overload
 def pair_distances(
@@ -36,7 +36,7 @@ def pair_distances(
     threads: int | None = None,
     *,
     max_distance: float | None = None,
-    **options: Unpack[AlgorithmOptions],
+    **options: Unpack[RunOptions],
 ) -> tuple[np.ndarray, list[GeodesicPath]]: ...
 def pair_distances(
     mesh: Mesh,
@@ -46,7 +46,7 @@ def pair_distances(
     threads: int | None = None,
     *,
     max_distance: float | None = None,
-    **options: Unpack[AlgorithmOptions],
+    **options: Unpack[RunOptions],
 ) -> np.ndarray | tuple[np.ndarray, list[GeodesicPath]]:
     """Exact geodesic distance from a[i] to b[i] for every i: float64, inf where b[i] lies on another piece of
     the mesh or beyond `max_distance`.

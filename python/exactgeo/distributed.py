@@ -142,8 +142,8 @@ def _open_array(path: Path, mode: str = "r") -> Any:
     return _zarr().open_array(store=str(path), mode=mode)
 
 
-# Every array is stored uncompressed, its chunks raw little-endian bytes: the command (cli/formats/zarr_store.cpp) writes
-# blocks into `distances` and reads every array back to verify it.
+# Every array is stored uncompressed, its chunks raw little-endian bytes: the command
+# (cli/formats/zarr_store.cpp) writes blocks into `distances` and reads every array back to verify it.
 
 
 def _new_array(store: Path, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any, fill_value: Any,

@@ -44,9 +44,8 @@ def test_vertex_and_point_pairs_equal_targets_mode_runs(sheet, algorithm):
 def test_a_list_may_mix_points_and_vertices(sheet):
     point = exactgeo.SurfacePoint(5, (0.2, 0.3, 0.5))
     mixed = exactgeo.pair_distances(sheet, [point, 7], [9, point])
-    np.testing.assert_array_equal(
-        mixed, exactgeo.pair_distances(sheet, [point, exactgeo.vertex_point(sheet, 7)], [exactgeo.vertex_point(sheet, 9), point])
-    )
+    seven, nine = exactgeo.vertex_point(sheet, 7), exactgeo.vertex_point(sheet, 9)
+    np.testing.assert_array_equal(mixed, exactgeo.pair_distances(sheet, [point, seven], [nine, point]))
     assert exactgeo.pair_distances(sheet, [point], [point])[0] == 0.0
 
 
