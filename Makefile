@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 ASAN_BUILD_DIR ?= $(BUILD_DIR)-asan
 
 WHEEL_DIR ?= dist
-.PHONY: deps deps-command build python lint wheel-tools wheel wheels sdist test-wheel demo test test-python asan-build test-asan test-tsan fuzz bench bench-quick bench-end-to-end paper clean
+.PHONY: deps deps-command build python lint wheel-tools wheel wheels sdist test-wheel demo test test-python asan-build test-asan test-clang test-tsan fuzz bench bench-quick bench-end-to-end paper clean
 
 deps:
 	@bash scripts/install-deps.sh all
@@ -84,6 +84,7 @@ demo: deps-command
 test: build python lint
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	$(MAKE) test-asan
+	$(MAKE) test-clang
 	$(MAKE) -j 2 --output-sync=target test-python wheel
 	$(RUN_WHEEL_TESTS)
 
@@ -106,6 +107,16 @@ asan-build: deps
 
 test-asan: asan-build
 	cd $(ASAN_BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# The C++ suite built by clang in Release as well, the command and its tests included: a second compiler's
+# errors, warnings and optimizer on the same code. The oracle's tests and the consumer package's are left to
+# the GCC build (`build`), which runs them already.
+CLANG_BUILD_DIR ?= $(BUILD_DIR)-clang
+test-clang: deps
+	cmake -S . -B $(CLANG_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
+	  -DEXACTGEO_BUILD_TESTS=ON -DEXACTGEO_BUILD_ORACLE=OFF -DEXACTGEO_BUILD_PYTHON=OFF $(CMAKE_FLAGS)
+	cmake --build $(CLANG_BUILD_DIR) -j $(JOBS)
+	cd $(CLANG_BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -E '^package_'
 
 # The parallel propagation's, mesh build's, readers' and locate's tests under ThreadSanitizer (not in `make test`: the build alone takes minutes).
 # Left out: the test running all 16 variants on 5 meshes and 4 thread counts, too slow under the sanitizer.

@@ -18,8 +18,9 @@ CLI::Option* add_output_option(CLI::App& command, const std::string& name, std::
                                const std::string& help, std::span<const Format<Writer>> formats,
                                const std::string& what) {
   const auto [type_name, extensions] = format_names(formats);
+  // `extensions` is copied by an init-capture: Clang before 16 cannot capture a structured binding.
   const CLI::Validator check(
-      [formats, what, extensions](std::string& file) -> std::string {
+      [formats, what, extensions = extensions](std::string& file) -> std::string {
         if (find_format(formats, file)) return {};
         return "unsupported " + what + " file '" + file + "': the extension must be " + extensions;
       },

@@ -23,8 +23,8 @@ ALGORITHMS: tuple[str, ...] = tuple(_core.algorithm_names())
 
 
 class RunOptions(TypedDict, total=False):
-    """The AlgorithmOptions but `threads`: the keyword arguments of distance_matrix, whose own `threads`
-    argument is the number of threads its sources are spread over."""
+    """The AlgorithmOptions but `threads`: the keyword arguments of distance_matrix and pair_distances, whose
+    own `threads` argument is the number of threads their sources (pairs) are spread over."""
 
     algorithm: str  # one of ALGORITHMS (paper Section 5); "vtp", the default, is the paper's final algorithm
     rule1: bool  # paper Section 4.1: prune with the window list's separating point
