@@ -10,36 +10,17 @@ An optional extra (dask[distributed] and zarr: pip install 'dask[distributed]>=2
 does not import it, and this module imports dask and zarr only when a function needs them. It needs zarr-python 3 (Zarr
 format v3). See docs/distributed.md.
 
-The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for
-a cluster):
+The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for a
+cluster). Its layout (docs/distributed.md, "The store") is written and read by one component, store/
+(store/matrix_store.hpp), through exactgeo._core's store_* functions; the command `exactgeo matrix --out STORE
+--shard I/N` calls the same component, so either can continue a store the other began. This module keeps the
+scheduling (Dask or executors, retries, progress; _scheduling.py) and the computing of each block.
 
-    STORE/zarr.json                 root group; attribute "exactgeo": what the matrix is (mesh hash, sources,
-                                    targets, dtype, max_distance, block_rows, exactgeo's version)
-    STORE/distances                 (sources, targets) array, chunks of (block_rows, all columns): block b is
-                                    chunk row b, rows [b * block_rows, (b + 1) * block_rows); NaN where no
-                                    block was written yet (dense matrices only); uncompressed, so that a
-                                    block's chunk (distances/c/B/0) is its rows' bytes, written as they are
-    STORE/source, STORE/target      int64 vertex index of each row, of each column
-    STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
-    STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
-                                    row pointers from 0; written in a hidden folder beside it, then renamed
-    STORE/done/block_000012         a Zarr group with no arrays, made once block 12's data is complete: its
-                                    metadata file (zarr.json) is renamed into place last and is the marker;
-                                    its attributes hold the block's rows, its max_distance and the sha256 of
-                                    the bytes written
-
-Every array is uncompressed. A block counts as done only through its marker, written after its data: an
-interrupted or killed run leaves at most blocks without markers, which the next run with resume=True computes
-again, replacing whatever data they left (a block being written again loses its marker first). verify=True
-(and `exactgeo matrix --verify`) checks the done blocks' data against the sha256 their markers recorded, and
-the source, target and mesh arrays against the settings; a run with verify=True computes those blocks and
-writes those arrays again.
-
-The layout is written and read by one component, store/ (store/matrix_store.hpp), through exactgeo._core: this module
-keeps the scheduling (Dask or executors, retries, progress; _scheduling.py) and the computing of each block. The
-command `exactgeo matrix --out STORE --shard I/N` calls the same component, so either can continue a store the other
-began. The store is built in a hidden folder beside its place and
-renamed into it; an error or an interrupt (Ctrl-C) while building it removes that folder.
+A block counts as done only through its marker, written after its data: an interrupted or killed run leaves at
+most blocks without markers, which the next run with resume=True computes again, replacing whatever data they
+left. verify=True (and `exactgeo matrix --verify`) checks the done blocks' data against the sha256 their markers
+recorded, and the source, target and mesh arrays against the settings; a run with verify=True computes those
+blocks and writes those arrays again.
 """
 
 from __future__ import annotations
@@ -63,7 +44,6 @@ from ._scheduling import local_cluster
 if TYPE_CHECKING:
     from numpy.typing import DTypeLike
 
-FORMAT = "exactgeo-distance-matrix/1"
 DTYPES = ("float32", "float64")
 StorePath = Union[str, "os.PathLike[str]"]
 
