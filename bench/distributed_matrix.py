@@ -255,7 +255,7 @@ def measure_memory(label: str, bench_mesh: BenchMesh, sources: np.ndarray, block
     """The workers' memory alone: the first `blocks` blocks of the workload's layout (its default block_rows)
     on 1 and 2 workers, `runs` times; no time is reported."""
     mesh = load_mesh(bench_mesh)
-    block_rows = distributed._default_block_rows(len(sources), mesh.vertex_count, 4)
+    block_rows = exactgeo._core.store_default_block_rows(len(sources), mesh.vertex_count, 4)
     part = sources[:blocks * block_rows]
     store = work / f"{label}-memory.zarr"
     samples: dict[str, list[dict]] = {name: [] for name in kConfigurations[:2]}
@@ -314,7 +314,7 @@ def nefertiti_subset(nefertiti: BenchMesh, blocks: int, block_rows: int | None, 
     cluster), and the whole store extrapolated from them."""
     mesh = load_mesh(nefertiti)
     sources = used_vertices(mesh.faces)
-    rows = block_rows or distributed._default_block_rows(len(sources), mesh.vertex_count, 4)
+    rows = block_rows or exactgeo._core.store_default_block_rows(len(sources), mesh.vertex_count, 4)
     store = work / "nefertiti-all-pairs-subset.zarr"
     with local_cluster(2) as client:
         result = into_store(client, mesh, sources[:blocks * rows], store, 2, block_rows=rows)
@@ -341,7 +341,7 @@ def extrapolation(points: list[dict], overhead_per_block: float) -> dict:
     exponent, log_factor = np.polyfit(np.log([p["vertices"] for p in points]),
                                       np.log([p["per_source_seconds"] for p in points]), 1)
     per_source = math.exp(log_factor) * kExtrapolatedVertices**exponent
-    block_rows = distributed._default_block_rows(kExtrapolatedVertices, kExtrapolatedVertices, 4)
+    block_rows = exactgeo._core.store_default_block_rows(kExtrapolatedVertices, kExtrapolatedVertices, 4)
     blocks = math.ceil(kExtrapolatedVertices / block_rows)
     output = kExtrapolatedVertices**2 * 4
     cores = {}

@@ -36,7 +36,7 @@ struct MatrixArguments {
 };
 
 int print_store_status(const std::string& store, bool verify) {
-  const StoreStatus status = read_store_status(store, verify);
+  const store::StoreStatus status = store::read_store_status(store, verify);
   const nlohmann::ordered_json& settings = status.settings;
   const nlohmann::ordered_json shape = settings.value("shape", nlohmann::ordered_json::array());
   const nlohmann::ordered_json max_distance = settings.value("max_distance", nlohmann::ordered_json());
@@ -51,14 +51,14 @@ int print_store_status(const std::string& store, bool verify) {
                {"missing", std::to_string(status.missing.size()) + ": " + block_ranges(status.missing)}};
   if (verify) {
     std::vector<std::size_t> corrupt;
-    for (const CorruptBlock& block : status.corrupt) corrupt.push_back(block.block);
+    for (const store::CorruptBlock& block : status.corrupt) corrupt.push_back(block.block);
     rows.push_back({"corrupt", std::to_string(corrupt.size()) + ": " + block_ranges(corrupt)});
-    for (const CorruptBlock& block : status.corrupt)
+    for (const store::CorruptBlock& block : status.corrupt)
       rows.push_back({"block " + std::to_string(block.block), block.reason});
     std::string names;
-    for (const DamagedArray& array : status.damaged) names += (names.empty() ? "" : ", ") + array.array;
+    for (const store::DamagedArray& array : status.damaged) names += (names.empty() ? "" : ", ") + array.array;
     rows.push_back({"damaged", std::to_string(status.damaged.size()) + ": " + (names.empty() ? "none" : names)});
-    for (const DamagedArray& array : status.damaged) rows.push_back({array.array, array.reason});
+    for (const store::DamagedArray& array : status.damaged) rows.push_back({array.array, array.reason});
   }
   print_table(rows);
   return status.complete() ? kExitOk : kExitIncomplete;

@@ -15,21 +15,6 @@
 #include "exactgeo/error.hpp"
 
 namespace exactgeo::cli {
-namespace {
-
-template <typename T, typename Bits>
-std::vector<unsigned char> bytes_of(std::span<const T> values) {
-  std::vector<unsigned char> bytes;
-  bytes.reserve(values.size() * sizeof(T));
-  for (const T value : values) {
-    const auto bits = std::bit_cast<Bits>(value);
-    for (std::size_t byte = 0; byte < sizeof(T); ++byte) bytes.push_back(static_cast<unsigned char>(bits >> (8 * byte)));
-  }
-  return bytes;
-}
-
-}  // namespace
-
 std::string npy_header(std::string_view descr, std::span<const std::size_t> shape, std::size_t length) {
   std::string dims;
   for (std::size_t d : shape) dims += std::to_string(d) + ", ";
@@ -53,22 +38,6 @@ void write_npy(std::FILE* file, std::string_view descr, std::span<const std::siz
   const std::string header = npy_header(descr, shape);
   std::fwrite(header.data(), 1, header.size(), file);
   std::fwrite(data.data(), 1, data.size(), file);
-}
-
-std::vector<unsigned char> little_endian_bytes(std::span<const double> values) {
-  return bytes_of<double, std::uint64_t>(values);
-}
-std::vector<unsigned char> little_endian_bytes(std::span<const float> values) {
-  return bytes_of<float, std::uint32_t>(values);
-}
-std::vector<unsigned char> little_endian_bytes(std::span<const std::uint32_t> values) {
-  return bytes_of<std::uint32_t, std::uint32_t>(values);
-}
-std::vector<unsigned char> little_endian_bytes(std::span<const std::int32_t> values) {
-  return bytes_of<std::int32_t, std::uint32_t>(values);
-}
-std::vector<unsigned char> little_endian_bytes(std::span<const std::int64_t> values) {
-  return bytes_of<std::int64_t, std::uint64_t>(values);
 }
 
 namespace {

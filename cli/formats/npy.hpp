@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "little_endian.hpp"
+
 namespace exactgeo::cli {
 
 // The .npy preamble and header for a C-ordered array: `descr` is NumPy's dtype string ('<f8', '<i4', '|S3').
@@ -32,12 +34,8 @@ bool is_npy(std::string_view bytes);
 // header says, a negative value or one of 2^32 or more.
 std::vector<std::uint32_t> read_npy_indices(std::string_view bytes, const std::string& name, std::size_t columns = 1);
 
-// Little-endian bytes of values, as .npy data and Zarr chunks.
-std::vector<unsigned char> little_endian_bytes(std::span<const double> values);
-std::vector<unsigned char> little_endian_bytes(std::span<const float> values);
-std::vector<unsigned char> little_endian_bytes(std::span<const std::uint32_t> values);
-std::vector<unsigned char> little_endian_bytes(std::span<const std::int32_t> values);
-std::vector<unsigned char> little_endian_bytes(std::span<const std::int64_t> values);
+// Little-endian bytes of values, as .npy data (the store component's, which its Zarr chunks use too).
+using exactgeo::store::little_endian_bytes;
 
 // A 1-D .npy array of unknown length, written as it grows to an anonymous temporary file, so that memory
 // stays at what one append holds. Throws exactgeo::Error(io_error) if the file cannot be written.

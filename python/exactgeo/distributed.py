@@ -10,73 +10,42 @@ An optional extra (dask[distributed] and zarr: pip install 'dask[distributed]>=2
 does not import it, and this module imports dask and zarr only when a function needs them. It needs zarr-python 3 (Zarr
 format v3). See docs/distributed.md.
 
-The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for
-a cluster):
+The store is a folder every worker can write to (a local disk for a LocalCluster, a shared filesystem for a
+cluster). Its layout (docs/distributed.md, "The store") is written and read by one component, store/
+(store/matrix_store.hpp), through exactgeo._core's store_* functions; the command `exactgeo matrix --out STORE
+--shard I/N` calls the same component, so either can continue a store the other began. This module keeps the
+scheduling (Dask or executors, retries, progress; _scheduling.py) and the computing of each block.
 
-    STORE/zarr.json                 root group; attribute "exactgeo": what the matrix is (mesh hash, sources,
-                                    targets, dtype, max_distance, block_rows, exactgeo's version)
-    STORE/distances                 (sources, targets) array, chunks of (block_rows, all columns): block b is
-                                    chunk row b, rows [b * block_rows, (b + 1) * block_rows); NaN where no
-                                    block was written yet (dense matrices only); uncompressed, so that a
-                                    block's chunk (distances/c/B/0) is its rows' bytes, written as they are
-    STORE/source, STORE/target      int64 vertex index of each row, of each column
-    STORE/mesh/{vertices,faces}     the mesh, so that workers and later readers can rebuild it
-    STORE/csr/block_000012/{data,indices,indptr}   block 12's rows as CSR (with max_distance only), the
-                                    row pointers from 0; written in a hidden folder beside it, then renamed
-    STORE/done/block_000012         a Zarr group with no arrays, made once block 12's data is complete: its
-                                    metadata file (zarr.json) is renamed into place last and is the marker;
-                                    its attributes hold the block's rows, its max_distance and the sha256 of
-                                    the bytes written
-
-Every array is uncompressed. A block counts as done only through its marker, written after its data: an
-interrupted or killed run leaves at most blocks without markers, which the next run with resume=True computes
-again, replacing whatever data they left (a block being written again loses its marker first). verify=True
-(and `exactgeo matrix --verify`) checks the done blocks' data against the sha256 their markers recorded, and
-the source, target and mesh arrays against the settings; a run with verify=True computes those blocks and
-writes those arrays again.
-
-The command `exactgeo matrix --out STORE --shard I/N` (cli/formats/zarr_store.cpp) writes this same layout (format
-v3), so either can continue a store the other began. The store is built in a hidden folder beside its place and
-renamed into it; an error or an interrupt (Ctrl-C) while building it removes that folder.
+A block counts as done only through its marker, written after its data: an interrupted or killed run leaves at
+most blocks without markers, which the next run with resume=True computes again, replacing whatever data they
+left. verify=True (and `exactgeo matrix --verify`) checks the done blocks' data against the sha256 their markers
+recorded, and the source, target and mesh arrays against the settings; a run with verify=True computes those
+blocks and writes those arrays again.
 """
 
 from __future__ import annotations
 
-import concurrent.futures
 import dataclasses
-import errno
-import functools
-import hashlib
 import json
 import math
 import os
-import shutil
 import time
 import uuid
-from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Union
+from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 
-from . import _inputs
+from . import _core, _inputs, _scheduling
 from ._mesh import Mesh, checked_mesh
 from ._progress import Progress, Reporter, checked as checked_progress
+from ._scheduling import local_cluster
 
 if TYPE_CHECKING:
     from numpy.typing import DTypeLike
 
-FORMAT = "exactgeo-distance-matrix/1"
 DTYPES = ("float32", "float64")
 StorePath = Union[str, "os.PathLike[str]"]
-
-_MISSING_EXTRA = ("exactgeo.distributed needs its extra, dask[distributed] and zarr: "
-                  "pip install 'dask[distributed]>=2023.1' 'zarr>=3'")
-ZARR_FORMAT = 3
-# The blocks a run computes: each block's arguments to _compute_block after the context, by block index.
-_Tasks = dict[int, tuple[Any, ...]]
-# Called with a block's index once the block is done.
-_Finished = Callable[[int], None]
 
 
 # What a run returns and what a store holds.
@@ -120,356 +89,53 @@ class StoreStatus:
         return range(start, min(start + self.block_rows, self.shape[0]))
 
 
-# Lazy imports of the optional extra.
+# The optional extra: zarr is what readers open the stores with (the store component writes them itself).
 
 
 def _zarr() -> Any:
     try:
         import zarr
     except ImportError:
-        raise ImportError(_MISSING_EXTRA) from None
+        raise ImportError(_scheduling.MISSING_EXTRA) from None
     if int(zarr.__version__.split(".")[0]) < 3:
         raise ImportError(f"exactgeo.distributed needs zarr-python 3 or newer (Python 3.11+), not {zarr.__version__}: "
                           "pip install 'zarr>=3'")
     return zarr
 
 
-def _open_group(path: Path, mode: str) -> Any:
-    return _zarr().open_group(store=str(path), mode=mode)
+# The store, through the store component in exactgeo._core.
 
 
-def _open_array(path: Path, mode: str = "r") -> Any:
-    return _zarr().open_array(store=str(path), mode=mode)
-
-
-# Every array is stored uncompressed, its chunks raw little-endian bytes: the command
-# (cli/formats/zarr_store.cpp) writes blocks into `distances` and reads every array back to verify it.
-
-
-def _new_array(store: Path, shape: tuple[int, ...], chunks: tuple[int, ...], dtype: Any, fill_value: Any,
-               dimensions: Sequence[str]) -> Any:
-    """An array at `store` (replacing one there), with dimension names as xarray reads them."""
-    chunks = tuple(max(1, c) for c in chunks)
-    return _zarr().create_array(store=str(store), shape=shape, chunks=chunks, dtype=dtype, fill_value=fill_value,
-                                dimension_names=list(dimensions), compressors=None, overwrite=True)
-
-
-def _array_of(store: Path, values: np.ndarray, dimensions: Sequence[str]) -> None:
-    """`values` as an array at `store` in one chunk."""
-    array = _new_array(store, values.shape, values.shape, values.dtype, 0, dimensions)
-    if values.size:
-        array[...] = values
-
-
-# The mesh, the settings and the markers.
+def _mesh_arrays(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The mesh as the store hashes and keeps it: vertices as float64, faces as uint32, C order; its welding."""
+    return (np.ascontiguousarray(mesh.vertices, dtype=np.float64), np.ascontiguousarray(mesh.faces, dtype=np.uint32),
+            bool(mesh._weld))
 
 
 def mesh_hash(mesh: Mesh) -> str:
     """sha256 (hex) of the mesh's input: vertex and face counts, welding, vertices as float64 and faces as
     uint32, in C order. Equal meshes have equal hashes; stores record it."""
-    mesh = checked_mesh(mesh)
-    return _mesh_digest(mesh.vertices, mesh.faces, mesh._weld)
-
-
-def _mesh_digest(vertices: np.ndarray, faces: np.ndarray, weld: bool) -> str:
-    """mesh_hash of a mesh given as its arrays, as a store keeps them."""
-    digest = hashlib.sha256(b"exactgeo-mesh/1")
-    vertices = np.ascontiguousarray(vertices, dtype="<f8")
-    faces = np.ascontiguousarray(faces, dtype="<u4")
-    digest.update(np.array([len(vertices), len(faces), int(weld)], dtype="<i8").tobytes())
-    digest.update(vertices.tobytes())
-    digest.update(faces.tobytes())
-    return digest.hexdigest()
-
-
-def _block_name(block: int) -> str:
-    return f"block_{block:06d}"
-
-
-def _beside(final: Path) -> Path:
-    """A hidden name beside `final` for building it: the process and a random number keep attempts apart."""
-    return final.parent / f".{final.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
-
-
-def _write_atomically(final: Path, data: str | bytes | np.ndarray) -> None:
-    """The file appears whole or not at all, its bytes on disk before it does: written beside its final name,
-    synced, then renamed. An array is written from its own memory, without a copy."""
-    content = data.encode() if isinstance(data, str) else data.data if isinstance(data, np.ndarray) else data
-    temporary = _beside(final)
-    try:
-        with open(temporary, "wb") as file:
-            file.write(content)
-            file.flush()
-            os.fsync(file.fileno())
-        os.replace(temporary, final)
-    finally:
-        if temporary.exists():  # stopped before the rename: an error or Ctrl-C
-            temporary.unlink()
-
-
-def _build_folder_into_place(final: Path, build: Callable[[Path], None], replace: bool = False) -> bool:
-    """Builds a folder at a hidden name beside `final`, then renames it into place, so that it appears whole.
-    rename fails on a full folder: one there first is kept (the result is then False), or with `replace` moved
-    aside and removed, so that leftover pieces are never trusted. Whatever stops the building, an error or
-    Ctrl-C (KeyboardInterrupt), nothing built is left behind."""
-    building = _beside(final)
-    try:
-        build(building)
-        while True:
-            try:
-                os.rename(building, final)
-                return True
-            except OSError as error:
-                if error.errno not in (errno.EEXIST, errno.ENOTEMPTY):
-                    raise
-                if not replace:
-                    return False
-            aside = _beside(final)
-            try:
-                os.rename(final, aside)
-            except FileNotFoundError:  # another attempt at the same block moved it aside first
-                pass
-            shutil.rmtree(aside, ignore_errors=True)
-    finally:
-        shutil.rmtree(building, ignore_errors=True)  # nothing there once renamed
-
-
-def _remove_marker(path: Path, block: int) -> None:
-    """A block whose data is about to be replaced is not done until its new marker: its old one goes first, so
-    that a run stopped in between leaves the block missing, never marked done over other data."""
-    try:
-        shutil.rmtree(path / "done" / _block_name(block))
-    except FileNotFoundError:
-        pass
-
-
-def _write_group(folder: Path, attributes: dict[str, Any]) -> None:
-    """A Zarr group at `folder` whose attributes are `attributes`: its metadata file written whole."""
-    folder.mkdir(parents=True, exist_ok=True)
-    _write_atomically(folder / "zarr.json", json.dumps(
-        {"zarr_format": ZARR_FORMAT, "node_type": "group", "attributes": attributes}))
-
-
-def _write_marker(path: Path, block: int, record: dict[str, Any]) -> None:
-    """done/block_NNNNNN: a Zarr group whose attributes are `record`; its metadata file, renamed into place
-    after the block's data is written, is the marker."""
-    _write_group(path / "done" / _block_name(block), record)
-
-
-def _done_blocks(path: Path, blocks: int) -> list[int]:
-    folder = path / "done"
-    if not folder.is_dir():
-        return []
-    found = []
-    for entry in folder.iterdir():
-        number = entry.name[len("block_"):]
-        if entry.name.startswith("block_") and number.isdigit() and int(number) < blocks \
-                and (entry / "zarr.json").is_file():
-            found.append(int(number))
-    return sorted(found)
+    return str(_core.store_mesh_sha256(*_mesh_arrays(checked_mesh(mesh))))
 
 
 def _stored_settings(path: Path) -> dict[str, Any] | None:
     """The store's "exactgeo" attribute, None if there is no store at `path`; ValueError if `path` holds
-    something else."""
-    if not path.exists():
+    something else, or a store in Zarr format 2."""
+    stored = _core.store_settings(str(path))
+    if stored is None:
         return None
-    if not path.is_dir():
-        raise ValueError(f"{path} exists and is not a folder: choose another store")
-    if not any(path.iterdir()):
-        return None
-    if not ((path / "zarr.json").is_file() or (path / ".zgroup").is_file()):
-        raise ValueError(f"{path} exists and is not a Zarr store: choose another store (nothing was changed)")
-    if not (path / "zarr.json").is_file():
-        raise ValueError(f"{path} is a Zarr format 2 store: exactgeo.distributed reads and writes format 3 only "
-                         "(zarr-python 3); choose another store (nothing was changed)")
-    try:
-        settings = dict(_open_group(path, "r").attrs).get("exactgeo")
-    except Exception as error:  # zarr's own errors do not name the file
-        raise ValueError(f"{path / 'zarr.json'} cannot be read as a Zarr group: {error}") from None
-    if not isinstance(settings, dict) or settings.get("format") != FORMAT:
-        raise ValueError(f"{path} is a Zarr store but not an exactgeo distance matrix: choose another store "
-                         "(nothing was changed)")
-    # The counts are checked against each other, so that an edited block count cannot hide blocks.
-    try:
-        rows, columns = settings["shape"]
-        targets = settings["targets"]
-        agree = len(settings["sources"]) == rows and settings["blocks"] == math.ceil(rows / settings["block_rows"]) \
-            and columns == (settings["vertex_count"] if targets is None else len(targets))
-    except (KeyError, TypeError, ValueError, ZeroDivisionError):
-        agree = False
-    if not agree:
-        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's shape, sources, targets, blocks and "
-                         "block_rows do not agree")
-    if settings.get("layout") != ("dense" if settings.get("max_distance") is None else "sparse"):
-        raise ValueError(f"{path / 'zarr.json'}: its exactgeo attribute's layout {settings.get('layout')!r} does not "
-                         f"go with its max_distance {settings.get('max_distance')!r}")
-    return settings
+    settings, zarr_format = stored
+    if zarr_format != 3:
+        raise ValueError(f"{path} is a Zarr format {zarr_format} store: exactgeo.distributed reads and writes format 3 "
+                         "only (zarr-python 3); choose another store (nothing was changed)")
+    result: dict[str, Any] = json.loads(settings)
+    return result
 
 
-def _describe(values: list[Any] | None, noun: str) -> str:
-    if values is None:
-        return f"every vertex as {noun}"
-    head = ", ".join(map(str, values[:5])) + (", ..." if len(values) > 5 else "")
-    return f"{len(values)} {noun} [{head}]"
-
-
-def _differences(stored: dict[str, Any], wanted: dict[str, Any], explicit_block_rows: bool) -> list[str]:
-    found = []
-    if any(stored[key] != wanted[key] for key in ("mesh_sha256", "vertex_count", "face_count",
-                                                  "weld_duplicate_positions")):
-        found.append(f"another mesh (the store's: {stored['vertex_count']} vertices, {stored['face_count']} faces, "
-                     f"sha256 {stored['mesh_sha256'][:12]}...; this one: {wanted['vertex_count']} vertices, "
-                     f"{wanted['face_count']} faces, sha256 {wanted['mesh_sha256'][:12]}...)")
-    if stored["sources"] != wanted["sources"]:
-        found.append(f"other sources (the store's: {_describe(stored['sources'], 'sources')}; these: "
-                     f"{_describe(wanted['sources'], 'sources')})")
-    if stored["targets"] != wanted["targets"]:
-        found.append(f"other targets (the store's: {_describe(stored['targets'], 'targets')}; these: "
-                     f"{_describe(wanted['targets'], 'targets')})")
-    for key in ("dtype", "max_distance", "zarr_format"):
-        if stored[key] != wanted[key]:
-            found.append(f"another {key} (the store's: {stored[key]!r}; this run's: {wanted[key]!r})")
-    if explicit_block_rows and stored["block_rows"] != wanted["block_rows"]:
-        found.append(f"another block_rows (the store's: {stored['block_rows']}; this run's: {wanted['block_rows']})")
-    return found
-
-
-def _create_store(path: Path, settings: dict[str, Any], mesh: Mesh, sources: np.ndarray,
-                  targets: np.ndarray | None) -> None:
-    root = _open_group(path, "w")
-    rows, width = settings["shape"]
-    if settings["max_distance"] is None:
-        _new_array(path / "distances", (rows, width), (settings["block_rows"], width), settings["dtype"], float("nan"),
-                   ("source", "target"))
-    else:
-        root.create_group("csr")
-    _write_shared_arrays(path, mesh, sources, targets)
-    root.create_group("done")
-    root.attrs["exactgeo"] = settings
-
-
-def _write_shared_arrays(path: Path, mesh: Mesh, sources: np.ndarray, targets: np.ndarray | None) -> None:
-    """The arrays every block shares (the rows' and columns' vertices, the mesh), each built beside its place and
-    renamed into it, so that one written again while other workers read it appears whole."""
-    arrays: dict[str, tuple[np.ndarray, tuple[str, ...]]] = {
-        "source": (sources.astype(np.int64), ("source",)),
-        "target": ((np.arange(mesh.vertex_count) if targets is None else targets).astype(np.int64), ("target",)),
-        "mesh/vertices": (np.array(mesh.vertices, dtype=np.float64), ("vertex", "xyz")),
-        "mesh/faces": (np.array(mesh.faces, dtype=np.uint32), ("face", "corner")),
-    }
-    _write_group(path / "mesh", {})
-    for name, (values, dimensions) in arrays.items():
-        _build_folder_into_place(path / name, functools.partial(_array_of, values=values, dimensions=dimensions),
-                                 replace=True)
-
-
-def _damaged_shared_arrays(path: Path, settings: dict[str, Any]) -> tuple[str, ...]:
-    """Why the arrays every block shares do not hold what `settings` record (one reason per array, naming its
-    file): `source` and `target` the sources and targets (every vertex without targets), mesh/vertices and
-    mesh/faces the mesh whose sha256 they record."""
-    targets = settings["targets"] if settings["targets"] is not None else np.arange(settings["vertex_count"])
-    damaged = []
-    for name, expected in (("source", settings["sources"]), ("target", targets)):
-        try:
-            if not np.array_equal(_whole_array(path / name, "int64", 1), np.asarray(expected, dtype=np.int64)):
-                damaged.append(f"{path / name} does not hold the {name}s its store's zarr.json records")
-        except ValueError as error:
-            damaged.append(str(error))
-    try:
-        group = _read_json(path / "mesh" / "zarr.json")
-        if group.get("zarr_format") != ZARR_FORMAT or group.get("node_type") != "group":
-            raise ValueError(f"{path / 'mesh' / 'zarr.json'} is not the metadata of a Zarr format 3 group")
-        vertices = _whole_array(path / "mesh" / "vertices", "float64", 2)
-        faces = _whole_array(path / "mesh" / "faces", "uint32", 2)
-    except ValueError as error:
-        return (*damaged, str(error))
-    if vertices.shape != (settings["vertex_count"], 3) or faces.shape != (settings["face_count"], 3) or \
-            _mesh_digest(vertices, faces, settings["weld_duplicate_positions"]) != settings["mesh_sha256"]:
-        damaged.append(f"{path / 'mesh'} does not hold the mesh whose sha256 its store's zarr.json records")
-    return tuple(damaged)
-
-
-# Verification reads what was written as the bytes it is, without zarr: the metadata must be the layout this module
-# and the command write (uncompressed; a small array in one chunk, the dense matrix in one chunk per block), so that
-# both verifiers hash the same bytes, and a store of many blocks is read at the speed of its files.
-
-_RAW_CODECS = [{"name": "bytes", "configuration": {"endian": "little"}}]
-
-
-def _read_json(path: Path) -> dict[str, Any]:
-    """The JSON object in `path`; ValueError naming the file otherwise."""
-    try:
-        with open(path, "rb") as file:
-            document = json.load(file)
-    except (OSError, ValueError) as error:
-        raise ValueError(f"{path} cannot be read: {error}") from None
-    if not isinstance(document, dict):
-        raise ValueError(f"{path} holds a JSON {type(document).__name__}, not an object")
-    return document
-
-
-def _check_layout(folder: Path, shape: Sequence[int], chunks: Sequence[int], data_type: str, fill_value: Any) -> None:
-    """ValueError naming the first thing in the array metadata of `folder` that is not what an uncompressed array of
-    this shape, chunks, data type and fill value has."""
-    metadata_path = folder / "zarr.json"
-    metadata = _read_json(metadata_path)
-    codecs = metadata.get("codecs")
-    if codecs != _RAW_CODECS:
-        names = ", ".join(str(codec.get("name")) for codec in codecs or [] if isinstance(codec, dict))
-        raise ValueError(f"{folder} stores its chunks with codecs [{names}]; blocks are written and read "
-                         "uncompressed (codecs [bytes], little-endian)")
-    expected = {"zarr_format": ZARR_FORMAT, "node_type": "array", "shape": list(shape), "data_type": data_type,
-                "chunk_grid": {"name": "regular", "configuration": {"chunk_shape": list(chunks)}},
-                "chunk_key_encoding": {"name": "default", "configuration": {"separator": "/"}},
-                "fill_value": fill_value}
-    for key, value in expected.items():
-        if metadata.get(key) != value:
-            raise ValueError(f"{metadata_path}: its {key} is {metadata.get(key)!r}, not {value!r}")
-
-
-def _whole_array(folder: Path, data_type: str, rank: int) -> np.ndarray:
-    """The array in `folder` of `data_type` and `rank` dimensions, stored in one chunk as _array_of (and the
-    command) write it, whatever its shape; ValueError naming the file otherwise. Zarr leaves out a chunk holding
-    the fill value (0) alone: an absent chunk reads as zeros."""
-    shape = _read_json(folder / "zarr.json").get("shape")
-    if not isinstance(shape, list) or len(shape) != rank or \
-            not all(isinstance(size, int) and not isinstance(size, bool) and size >= 0 for size in shape):
-        raise ValueError(f"{folder / 'zarr.json'}: its shape is {shape!r}, not {rank} sizes")
-    _check_layout(folder, shape, [max(1, size) for size in shape], data_type, 0)
-    dtype = np.dtype(data_type).newbyteorder("<")
-    chunk = folder / "c" / Path(*["0"] * rank)
-    if not chunk.exists():
-        return np.zeros(shape, dtype=dtype)
-    data = _read_bytes(chunk)
-    if len(data) != dtype.itemsize * math.prod(shape):
-        raise ValueError(f"{chunk} has {len(data)} bytes, not {dtype.itemsize * math.prod(shape)}")
-    return np.frombuffer(data, dtype=dtype).reshape(shape)
-
-
-def _read_bytes(path: Path) -> bytes:
-    try:
-        return path.read_bytes()
-    except OSError as error:
-        raise ValueError(f"{path} cannot be read: {error}") from None
-
-
-def _check_chunk_layout(path: Path, settings: dict[str, Any]) -> None:
-    """Blocks write their chunk files themselves (_write_chunk) and verification reads them so: `distances` must be
-    the array this module and the command make, (sources, targets) of the settings' dtype in chunks of block_rows
-    rows, NaN where no block was written, uncompressed. ValueError naming what differs otherwise."""
-    rows, width = settings["shape"]
-    try:
-        _check_layout(path / "distances", (rows, width), (settings["block_rows"], max(1, width)), settings["dtype"],
-                      "NaN")
-    except ValueError as error:
-        raise ValueError(f"{error}: choose another store, or resume=False to replace this one") from None
-
-
-def _default_block_rows(rows: int, width: int, itemsize: int) -> int:
-    """At most 32 MiB a chunk, at most 4096 rows, and some 32 blocks or more when there are enough rows."""
-    budget = (32 << 20) // max(1, width * itemsize)
-    return max(1, min(math.ceil(rows / 32), budget, 4096))
+def _read_sparse_block(path: Path, block: int, dtype: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    data, indices, indptr = _core.store_read_sparse_block(str(path), block)
+    return (np.frombuffer(data, dtype=np.dtype(dtype).newbyteorder("<")), np.frombuffer(indices, dtype="<u4"),
+            np.frombuffer(indptr, dtype="<i8"))
 
 
 # The work of one block, on a worker.
@@ -503,13 +169,12 @@ def _context_of(context: _Context | _StoreReference) -> _Context:
         return context
     if context not in _contexts:
         path = Path(context.path)
-        settings = _open_group(path, "r").attrs["exactgeo"]
+        settings = _stored_settings(path)
+        if settings is None:
+            raise ValueError(f"{path} holds no exactgeo distance matrix store")
         if context.mesh_sha256 not in _meshes:
-            try:
-                vertices, faces = (_open_array(path / "mesh" / name)[...] for name in ("vertices", "faces"))
-            except Exception as error:  # zarr's own errors do not name the file
-                raise ValueError(f"the mesh stored in {path / 'mesh'} cannot be read: {error}") from None
-            mesh = Mesh(vertices, faces, weld_duplicate_positions=bool(settings["weld_duplicate_positions"]))
+            vertices, faces, weld = _core.store_read_mesh(str(path))  # checked against the store's hash
+            mesh = Mesh(vertices, faces, weld_duplicate_positions=weld)
             if mesh_hash(mesh) != context.mesh_sha256:
                 raise ValueError(f"the mesh stored in {path} is not the one of this run (its sha256 differs)")
             _meshes.clear()
@@ -523,18 +188,14 @@ def _context_of(context: _Context | _StoreReference) -> _Context:
 
 
 def _compute_block(context: _Context | _StoreReference, store: str, block: int, rows: tuple[int, int],
-                   sources: np.ndarray, options: dict[str, Any]) -> dict[str, Any]:
-    """Computes rows [rows[0], rows[1]) (block `block`), writes them into the store, then the block's marker."""
+                   sources: np.ndarray, options: dict[str, Any]) -> None:
+    """Computes rows [rows[0], rows[1]) (block `block`) and writes them into the store, then the block's marker."""
     from ._many_sources import distance_matrix, fill_distance_matrix
 
     started = time.perf_counter()
-    path = Path(store)
     context = _context_of(context)
-    _remove_marker(path, block)
-    dtype = np.dtype(options["dtype"])
+    dtype = np.dtype(options["dtype"]).newbyteorder("<")
     max_distance = options["max_distance"]
-    digest = hashlib.sha256()
-    record: dict[str, Any] = {"block": block, "rows": list(rows), "max_distance": max_distance}
     if max_distance is None:
         # The block's chunk is the only copy of its rows: computed into it a few rows at a time (float32 rounded
         # from each float64 distance as it comes), then written from its own memory. The last block's chunk is
@@ -544,40 +205,15 @@ def _compute_block(context: _Context | _StoreReference, store: str, block: int, 
         values = chunk[:rows[1] - rows[0]]
         chunk[len(values):] = np.nan
         fill_distance_matrix(values, context.mesh, sources, targets=context.targets, threads=options["threads"])
-        little_endian = chunk.astype(dtype.newbyteorder("<"), copy=False)  # no copy on little-endian hosts
-        _write_chunk(path, block, little_endian)
-        digest.update(little_endian[:len(values)].data)
+        _core.store_write_dense_block(store, block, rows[0], rows[1], chunk, time.perf_counter() - started)
     else:
         matrix = distance_matrix(context.mesh, sources, targets=context.targets, max_distance=max_distance,
                                  threads=options["threads"])
-        pieces = {"data": np.ascontiguousarray(matrix.data.astype(dtype, copy=False)),
-                  "indices": np.ascontiguousarray(matrix.indices.astype(np.uint32, copy=False)),
-                  "indptr": np.ascontiguousarray(matrix.indptr.astype(np.int64, copy=False))}
-        for values in pieces.values():
-            digest.update(values.data)
-
-        def build(folder: Path) -> None:
-            _open_group(folder, "w")
-            for name, values in pieces.items():
-                _array_of(folder / name, values, (name,))
-
-        # Built whole beside its place, then renamed into it: csr/block_NNNNNN, once there, is complete. Pieces
-        # already there (an earlier attempt stopped before its marker, or pieces that failed verification) are
-        # replaced: the marker that follows vouches for these bytes only.
-        _build_folder_into_place(path / "csr" / _block_name(block), build, replace=True)
-        record["nnz"] = int(len(pieces["data"]))
-    record["sha256"] = digest.hexdigest()
-    record["seconds"] = time.perf_counter() - started
-    _write_marker(path, block, record)
-    return record
-
-
-def _write_chunk(path: Path, block: int, chunk: np.ndarray) -> None:
-    """Block `block`'s chunk of `distances` (chunk (block, 0), key c/block/0), written beside its place and
-    renamed into it."""
-    folder = path / "distances" / "c" / str(block)
-    folder.mkdir(parents=True, exist_ok=True)
-    _write_atomically(folder / "0", chunk)
+        _core.store_write_sparse_block(store, block, rows[0], rows[1], max_distance,
+                                       np.ascontiguousarray(matrix.data.astype(dtype, copy=False)),
+                                       np.ascontiguousarray(matrix.indices.astype(np.uint32, copy=False)),
+                                       np.ascontiguousarray(matrix.indptr.astype(np.int64, copy=False)),
+                                       time.perf_counter() - started)
 
 
 # The driver.
@@ -657,61 +293,19 @@ def distance_matrix_to_zarr(
     resume = _inputs.flag(resume, "resume")
     verify = _inputs.flag(verify, "verify")
     progress = checked_progress(progress)
-    _check_client(client)
-    width = mesh.vertex_count if target_array is None else len(target_array)
+    _scheduling.check_client(client)
     path = _store_path(store)
-    stored = _stored_settings(path)
-    if block_rows is None:
-        rows_per_block = stored["block_rows"] if stored and resume else _default_block_rows(
-            len(source_array), width, np.dtype(dtype).itemsize)
-    else:
-        rows_per_block = _inputs.count(block_rows, "block_rows", minimum=1)
-    from . import __version__
-
-    settings = {
-        "format": FORMAT,
-        "version": __version__,
-        "mesh_sha256": mesh_hash(mesh),
-        "vertex_count": mesh.vertex_count,
-        "face_count": mesh.face_count,
-        "weld_duplicate_positions": bool(mesh._weld),
-        "sources": source_array.tolist(),
-        "targets": None if target_array is None else target_array.tolist(),
-        "shape": [len(source_array), width],
-        "dtype": dtype,
-        "max_distance": cutoff,
-        "layout": "dense" if cutoff is None else "sparse",
-        "block_rows": rows_per_block,
-        "blocks": math.ceil(len(source_array) / rows_per_block),
-        "zarr_format": ZARR_FORMAT,
-    }
-    if stored is not None and not resume:
-        shutil.rmtree(path)
-        stored = None
-    if stored is None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        if not _build_folder_into_place(path, lambda building: _create_store(building, settings, mesh, source_array,
-                                                                             target_array)):
-            stored = _stored_settings(path)  # another driver made it first: joined below if it is for this matrix
-    if stored is not None:
-        differences = _differences(stored, settings, block_rows is not None)
-        if differences:
-            raise ValueError(f"the store {path} was made for " + "; ".join(differences) +
-                             ". Use another store, or resume=False to replace this one.")
-        if cutoff is None:
-            _check_chunk_layout(path, stored)
-    blocks = settings["blocks"]
-    for leftover in (path / "csr").glob(".block_*.tmp") if cutoff is not None else ():
-        shutil.rmtree(leftover, ignore_errors=True)  # pieces of attempts that died before their rename
-    done = _done_blocks(path, blocks)
-    if verify:
-        if stored is not None and _damaged_shared_arrays(path, stored):
-            _write_shared_arrays(path, mesh, source_array, target_array)  # the mesh and axes the settings record
-        for block in [b for b in done if not _block_intact(path, settings, b)]:
-            _remove_marker(path, block)  # computed again below
-            done.remove(block)
+    stored = _stored_settings(path)  # a Zarr format 2 store is refused before anything is replaced
+    rows_per_block = 0 if block_rows is None else _inputs.count(block_rows, "block_rows", minimum=1)
+    targets_u32 = None if target_array is None else target_array.astype(np.uint32)
+    text, done, _, _ = _core.store_open(str(path), *_mesh_arrays(mesh), source_array.astype(np.uint32), targets_u32,
+                                        dtype, cutoff, rows_per_block, stored is not None and not resume, verify)
+    settings = json.loads(text)
+    if cutoff is not None:
+        _core.store_remove_unfinished_pieces(str(path))  # pieces of attempts that died before their rename
+    blocks, rows_per_block = settings["blocks"], settings["block_rows"]
     todo = sorted(set(range(blocks)) - set(done))
-    options = {"dtype": settings["dtype"], "max_distance": cutoff, "threads": threads, "block_rows": rows_per_block}
+    options = {"dtype": dtype, "max_distance": cutoff, "threads": threads, "block_rows": rows_per_block}
     tasks = {b: (str(path), b, (b * rows_per_block, min((b + 1) * rows_per_block, len(source_array))),
                  source_array[b * rows_per_block:(b + 1) * rows_per_block], options) for b in todo}
 
@@ -731,129 +325,13 @@ def distance_matrix_to_zarr(
         if tasks:
             context = _Context(mesh, target_array)
             reference = _StoreReference(str(path), settings["mesh_sha256"], target_array is not None, uuid.uuid4().hex)
-            _run(client, tasks, context, reference, retries, finished)
+            _scheduling.run(client, _compute_block, tasks, context, reference, retries, finished)
     except BaseException:
         reporter.abandon()
         raise
     if reporter.active:
         reporter.finish(rows_total)
-    return MatrixRun(str(path), blocks, tuple(sorted(todo)), tuple(done))
-
-
-def _dask_client_type() -> type | None:
-    try:
-        from distributed import Client
-    except ImportError:
-        return None
-    return Client
-
-
-# Dask's housekeeping is tuned for interactive work: every worker ticks its event loop every 20 ms, samples its
-# threads' stacks every 10 ms for the profiler and checks its memory every 100 ms. Beside blocks that keep
-# every core busy for seconds, that took about 4% of the CPU time on 2 cores (the workers' main threads:
-# 0.13 s each in 6 s, 650 wake-ups), and each wake-up preempts a block. The cluster exactgeo starts checks
-# once a second and does not profile (0.02 s, 30 wake-ups).
-_UNHURRIED_HOUSEKEEPING = {
-    "distributed.admin.tick.interval": "1s",
-    "distributed.admin.system-monitor.interval": "1s",
-    "distributed.admin.system-monitor.gil.enabled": False,
-    "distributed.worker.profile.enabled": False,
-    "distributed.worker.memory.monitor-interval": "1s",
-}
-
-
-def local_cluster(workers: int | None = None) -> Any:
-    """The LocalCluster distance_matrix_to_zarr starts when given no client: `workers` single-threaded worker
-    processes (default: one per core) on 127.0.0.1, no dashboard, Dask's housekeeping slowed to once a second
-    so that it takes little from the blocks. Use it as a context manager, with a Client on it, to run several
-    matrices on one cluster:
-
-        with distributed.local_cluster() as cluster, dask.distributed.Client(cluster) as client:
-            distributed.distance_matrix_to_zarr(mesh, sources, "d.zarr", client=client)
-    """
-    try:
-        import dask
-        from distributed import LocalCluster
-    except ImportError:
-        raise ImportError(_MISSING_EXTRA) from None
-    count = _inputs.count((os.cpu_count() or 1) if workers is None else workers, "workers", minimum=1)
-    # The scheduler takes the configuration set while it starts. The nannies hand `config` to every worker
-    # process they start, a worker restarted after a crash included, which sets it key by key (dotted keys: a
-    # nested dictionary would replace whole sections). No dashboard; the scheduler's HTTP server (health
-    # checks) on a free loopback port, not 8787.
-    with dask.config.set(_UNHURRIED_HOUSEKEEPING):
-        return LocalCluster(n_workers=count, threads_per_worker=1, processes=True, host="127.0.0.1",
-                            dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
-                            config=_UNHURRIED_HOUSEKEEPING)
-
-
-def _is_dask_client(client: Any) -> bool:
-    client_type = _dask_client_type()
-    return client_type is not None and isinstance(client, client_type)
-
-
-def _check_client(client: Any) -> None:
-    """Before the store is touched: a client that cannot run the blocks leaves it as it was."""
-    if client is not None and not _is_dask_client(client) and not isinstance(client, concurrent.futures.Executor):
-        raise TypeError(f"client must be None, a dask.distributed Client or a concurrent.futures.Executor, "
-                        f"not {type(client).__name__}")
-
-
-def _run(client: Any, tasks: _Tasks, context: _Context, reference: _StoreReference, retries: int,
-         finished: _Finished) -> None:
-    if client is None:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise ImportError(_MISSING_EXTRA) from None
-        with local_cluster() as cluster, Client(cluster) as own:
-            _run_dask(own, tasks, context, retries, finished)
-    elif _is_dask_client(client):
-        _run_dask(client, tasks, context, retries, finished)
-    else:
-        _run_executor(client, tasks, reference, retries, finished)
-
-
-def _run_dask(client: Any, tasks: _Tasks, context: _Context, retries: int, finished: _Finished) -> None:
-    from distributed import as_completed
-
-    shared = client.scatter(context, broadcast=True, hash=False)  # the mesh goes to each worker once
-    run = uuid.uuid4().hex[:8]
-    futures = {}
-    for block, arguments in tasks.items():
-        future = client.submit(_compute_block, shared, *arguments, key=f"exactgeo-block-{run}-{block}",
-                               retries=retries, pure=False)
-        futures[future] = block
-    try:
-        for future in as_completed(list(futures)):
-            future.result()  # raises the block's error once its retries are spent
-            finished(futures[future])
-    except BaseException:
-        client.cancel(list(futures))
-        raise
-
-
-def _run_executor(executor: concurrent.futures.Executor, tasks: _Tasks, reference: _StoreReference, retries: int,
-                  finished: _Finished) -> None:
-    attempts = {block: 0 for block in tasks}
-    pending = {executor.submit(_compute_block, reference, *arguments): block for block, arguments in tasks.items()}
-    try:
-        while pending:
-            complete, _ = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
-            for future in complete:
-                block = pending.pop(future)
-                error = future.exception()
-                if error is None:
-                    finished(block)
-                elif isinstance(error, concurrent.futures.BrokenExecutor) or attempts[block] >= retries:
-                    raise error
-                else:
-                    attempts[block] += 1
-                    pending[executor.submit(_compute_block, reference, *tasks[block])] = block
-    except BaseException:
-        for future in pending:
-            future.cancel()
-        raise
+    return MatrixRun(str(path), blocks, tuple(todo), tuple(done))
 
 
 # Reading a store.
@@ -868,53 +346,13 @@ def store_status(store: StorePath, *, verify: bool = False) -> StoreStatus:
     (verifying) if its distances array is not stored as blocks are written."""
     path = _store_path(store)
     verify = _inputs.flag(verify, "verify")
-    settings = _stored_settings(path)
-    if settings is None:
+    if _stored_settings(path) is None:
         raise ValueError(f"{path} holds no exactgeo distance matrix store")
-    if verify and settings["max_distance"] is None:
-        _check_chunk_layout(path, settings)
-    done = _done_blocks(path, settings["blocks"])
-    corrupt = tuple(b for b in done if not _block_intact(path, settings, b)) if verify else ()
-    damaged = _damaged_shared_arrays(path, settings) if verify else ()
-    done = [b for b in done if b not in corrupt]
-    missing = tuple(sorted(set(range(settings["blocks"])) - set(done)))
+    text, _, done, missing, corrupt, damaged = _core.store_status(str(path), verify)
+    settings = json.loads(text)
     return StoreStatus(str(path), settings["layout"], tuple(settings["shape"]), settings["dtype"],
-                       settings["block_rows"], settings["blocks"], tuple(done), missing, corrupt, damaged)
-
-
-def _marker_record(path: Path, block: int) -> object:
-    try:
-        with open(path / "done" / _block_name(block) / "zarr.json") as file:
-            return json.load(file).get("attributes")
-    except (OSError, ValueError):
-        return None
-
-
-def _block_intact(path: Path, settings: dict[str, Any], block: int) -> bool:
-    """The block's marker records its rows and the store's max_distance (which no other file repeats), and its data
-    hashes to the sha256 the marker recorded."""
-    record = _marker_record(path, block)
-    start = block * settings["block_rows"]
-    stop = min(start + settings["block_rows"], settings["shape"][0])
-    if not isinstance(record, dict) or "sha256" not in record or record.get("rows") != [start, stop] or \
-            record.get("max_distance", "none recorded") != settings["max_distance"]:
-        return False
-    digest = hashlib.sha256()
-    try:
-        if settings["max_distance"] is None:  # the layout was checked: the chunk is block_rows rows, raw
-            row_bytes = settings["shape"][1] * np.dtype(settings["dtype"]).itemsize
-            chunk = _read_bytes(path / "distances" / "c" / str(block) / "0")
-            if len(chunk) != settings["block_rows"] * row_bytes:
-                return False
-            digest.update(chunk[:(stop - start) * row_bytes])
-        else:
-            group = path / "csr" / _block_name(block)
-            for name, data_type in (("data", settings["dtype"]), ("indices", "uint32"), ("indptr", "int64")):
-                digest.update(_whole_array(group / name, data_type, 1).tobytes())
-    except ValueError:  # a chunk or piece that cannot be read as it was written is not intact either
-        return False
-    recorded: object = record["sha256"]
-    return digest.hexdigest() == recorded
+                       settings["block_rows"], settings["blocks"], tuple(done), tuple(missing),
+                       tuple(block for block, _ in corrupt), tuple(damaged))
 
 
 def read_sparse(store: StorePath, rows: slice | range | None = None) -> Any:
@@ -948,15 +386,12 @@ def read_sparse(store: StorePath, rows: slice | range | None = None) -> Any:
     data, indices, indptr = [], [], [np.zeros(1, dtype=np.int64)]
     offset = 0
     for block in needed:
-        group = path / "csr" / _block_name(block)
-        piece_ptr = np.asarray(_open_array(group / "indptr")[...], dtype=np.int64)
+        piece_data, piece_indices, piece_ptr = _read_sparse_block(path, block, status.dtype)
         low = max(start, block * status.block_rows) - block * status.block_rows
         high = min(stop, (block + 1) * status.block_rows) - block * status.block_rows
         a, b = int(piece_ptr[low]), int(piece_ptr[high])
-        nnz_data = _open_array(group / "data")
-        nnz_indices = _open_array(group / "indices")
-        data.append(np.asarray(nnz_data[a:b]) if b > a else np.zeros(0, dtype=status.dtype))
-        indices.append(np.asarray(nnz_indices[a:b]) if b > a else np.zeros(0, dtype=np.uint32))
+        data.append(piece_data[a:b])
+        indices.append(piece_indices[a:b])
         indptr.append(piece_ptr[low + 1:high + 1] - a + offset)
         offset += b - a
     values = np.concatenate(data).astype(status.dtype, copy=False)

@@ -732,4 +732,7 @@ NB_MODULE(_core, m) {
                                to_numpy(std::move(nearest), {vertices}));
       },
       "mesh"_a, "count"_a, "first"_a.noconvert(), "options"_a, "progress"_a.none());
+
+  void register_store(nb::module_&);  // the distance matrix store: store_bindings.cpp
+  register_store(m);
 }

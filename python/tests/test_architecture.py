@@ -1,6 +1,6 @@
-"""docs/architecture.md names every file of the public headers, the engine, the readers, the command and the
-Python package (the tests, the benchmark and the docs are described by folder), so that a file added, renamed or
-removed fails here until the page says where it belongs."""
+"""docs/architecture.md names every file of the public headers, the engine, the readers, the matrix store, the
+command and the Python package (the tests, the benchmark and the docs are described by folder), so that a file
+added, renamed or removed fails here until the page says where it belongs."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import subprocess
 import pytest
 from conftest import REPOSITORY
 
-FOLDERS = ["include/exactgeo", "src", "io", "cli", "python"]
+FOLDERS = ["include/exactgeo", "src", "io", "store", "cli", "python"]
 DESCRIBED_BY_FOLDER = ("python/tests/",)
 
 

@@ -1,5 +1,6 @@
-"""`exactgeo matrix --out M.zarr --shard I/N`: the command writes the store layout of exactgeo.distributed
-(cli/formats/zarr_store.cpp), which zarr-python and exactgeo.distributed read and continue, and the other way round."""
+"""`exactgeo matrix --out M.zarr --shard I/N`: the command writes the store layout of exactgeo.distributed (both
+through the store component, store/), which zarr-python and exactgeo.distributed read and continue, and the other
+way round."""
 
 from __future__ import annotations
 

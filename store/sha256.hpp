@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-namespace exactgeo::cli {
+namespace exactgeo::store {
 
 class Sha256 {
  public:
@@ -29,4 +29,4 @@ class Sha256 {
   std::uint64_t total_bytes_ = 0;
 };
 
-}  // namespace exactgeo::cli
+}  // namespace exactgeo::store

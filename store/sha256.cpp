@@ -3,7 +3,7 @@
 #include <bit>
 #include <cstring>
 
-namespace exactgeo::cli {
+namespace exactgeo::store {
 namespace {
 
 // FIPS 180-4 section 4.2.2: the first 32 bits of the fractional parts of the cube roots of the first 64 primes.
@@ -43,8 +43,8 @@ void Sha256::compress(const unsigned char* block) {
   for (int t = 0; t < 64; ++t) {
     const std::uint32_t choose = (e & f) ^ (~e & g);
     const std::uint32_t majority = (a & b) ^ (a & c) ^ (b & c);
-    const std::uint32_t t1 = h + (std::rotr(e, 6) ^ std::rotr(e, 11) ^ std::rotr(e, 25)) + choose +
-                             kRoundConstants[t] + schedule[t];
+    const std::uint32_t t1 =
+        h + (std::rotr(e, 6) ^ std::rotr(e, 11) ^ std::rotr(e, 25)) + choose + kRoundConstants[t] + schedule[t];
     const std::uint32_t t2 = (std::rotr(a, 2) ^ std::rotr(a, 13) ^ std::rotr(a, 22)) + majority;
     h = g;
     g = f;
@@ -94,4 +94,4 @@ std::string Sha256::hex_digest() {
   return hex;
 }
 
-}  // namespace exactgeo::cli
+}  // namespace exactgeo::store
