@@ -3,14 +3,16 @@
 //
 // The sequential engine takes one vertex at a time and crosses the lists it sets moving one at a time. Here
 // the wavefront advances by a band instead: the queued vertices whose distances lie in the nearest slice of
-// the band width (on a fixed grid) join the traversed area. Each thread takes a share of the band's vertices
-// that lie together (vertex numbers follow space), emits from those that bend paths and enters their faces,
-// then crosses the lists this sets moving and whatever they reach inside the traversed area, until no thread
-// has a list left. A list is taken off its edge under the lock of the edge's face (one lock guards a face's
-// three lists) before it is pruned and crossed, so windows keep arriving there meanwhile (and schedule it
-// again); a vertex's distance and arrival change under the vertex's lock. A vertex reached from outside the
-// traversed area is filed, by the thread that reached it, under the band of its distance: the bands' queue
-// is a list per band and thread, so no heap is kept on one thread between the bands.
+// the band width (on a fixed grid) join the traversed area. Each thread takes a share of the band's vertices,
+// those it reached itself in the bands before (which lie where it crossed lists, so their faces and lists
+// are in its cache), emits from those that bend paths and enters their faces, then crosses the lists this
+// sets moving and whatever they reach inside the traversed area, until no thread has a list left. A list is
+// taken off its edge under the lock of the edge's face (one lock guards a face's three lists) before it is
+// pruned and crossed, so windows keep arriving there meanwhile (and schedule it again); a vertex's distance
+// and arrival change under the vertex's lock. A vertex reached from outside the traversed area is filed, by
+// the thread that reached it, under the band of its distance: the bands' queue is a list per band and
+// thread, so no heap is kept on one thread between the bands, and that list is the thread's share of the
+// band when it comes.
 //
 // Exactness does not depend on the order of propagation (every window is propagated until pruned, and the
 // pruning compares only with lengths of real paths: a distance read while another thread lowers it is
@@ -50,19 +52,6 @@ namespace {
 constexpr double kBandEdgesFewThreads = 0.5, kBandEdgesManyThreads = 1.0;
 constexpr unsigned kManyThreads = 4;
 
-// Orders `items` so that shares first..last-1 of `shares` equal shares (share k: the positions from
-// size * k / shares on) hold the smallest numbers first, each share in any order. Halving the range of shares
-// each time passes over the items log2(shares) times: one nth_element per share boundary from the start
-// passed over them shares / 2 times, a serial step that took 6% of a 16-thread run at 1.6M faces.
-void split_into_shares(std::vector<std::uint32_t>& items, unsigned first, unsigned last, unsigned shares) {
-  if (last - first < 2) return;
-  const unsigned middle = first + (last - first) / 2;
-  const auto at = [&](unsigned k) { return items.begin() + static_cast<std::ptrdiff_t>(items.size() * k / shares); };
-  std::nth_element(at(first), at(middle), at(last));
-  split_into_shares(items, first, middle, shares);
-  split_into_shares(items, middle, last, shares);
-}
-
 }  // namespace
 
 void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
@@ -86,19 +75,19 @@ void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
     }
     {
       const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-      parallel.band.clear();
-      const bool more = parallel.bands.next_band(
-          [&](std::uint32_t v) { return state_[v] == VertexState::queued; },
-          [&](std::uint32_t v) { return distance_[v]; },
-          [&](std::uint32_t v) {
-            move_inside(v);
-            parallel.band.push_back(v);
-          });
+      const bool more = parallel.bands.next_band([&](std::uint32_t v) { return state_[v] == VertexState::queued; },
+                                                 [&](std::uint32_t v) { return distance_[v]; });
       if (!more) break;
     }
     ++stats_.parallel_bands;
     ++iteration_;  // one iteration per band: all its faces are new to the traversed area
+    const std::uint64_t pops_before = stats_.vertex_pops;
     propagate_band();
+    // Progress and a stop asked for, as often as the sequential engine's (it looks at every multiple of the
+    // interval).
+    if (stats_.vertex_pops / kProgressInterval != pops_before / kProgressInterval)
+      checkpoint(stats_.vertex_pops / kProgressInterval * kProgressInterval,
+                 static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
   }
   for (const ParallelState::ThreadScratch& s : parallel.scratch) {
     stats_.pruning_seconds += s.stats.pruning_seconds;
@@ -129,7 +118,6 @@ void VtpEngine::propagate_band() {
   const unsigned threads = pool_->threads();
   parallel.crossings.start_band(pending_);
   pending_.clear();
-  split_into_shares(parallel.band, 0, threads, threads);
   const bool timed = options_.collect_timings;
   if (timed) parallel.band_start = std::chrono::steady_clock::now();
   pool_->run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
@@ -137,19 +125,22 @@ void VtpEngine::propagate_band() {
       timed ? std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel.band_start).count() : 0.0;
   stats_.parallel_seconds += seconds;
   std::uint16_t deepest = 0;
-  std::uint64_t crossings = 0;
+  std::uint64_t crossings = 0, vertices = 0;
   double busy_seconds = 0;
   for (ParallelState::ThreadScratch& s : parallel.scratch) {
     targets_changed_ = targets_changed_ || s.targets_changed;
     s.targets_changed = false;
     deepest = std::max(deepest, s.deepest);
     s.deepest = 0;
+    vertices += s.vertices_taken;
+    s.vertices_taken = 0;
     crossings += s.stats.list_crossings;
     busy_seconds += s.stats.parallel_busy_seconds;
   }
   stats_.parallel_critical_path += deepest;
+  stats_.vertex_pops += vertices;
   if (timed) {  // the threads' counts so far, less those of the bands before
-    stats_.band_timeline.push_back({static_cast<std::uint32_t>(parallel.band.size()),
+    stats_.band_timeline.push_back({static_cast<std::uint32_t>(vertices),
                                     static_cast<std::uint32_t>(crossings - parallel.timeline_crossings), deepest,
                                     seconds, busy_seconds - parallel.timeline_busy_seconds});
     parallel.timeline_crossings = crossings;
@@ -159,7 +150,7 @@ void VtpEngine::propagate_band() {
 }
 
 // One thread's part of a band, if it comes before the band is over: it takes shares of the band's vertices
-// while there are any, then crosses lists until every thread that joined has run out.
+// while there are any (its own first), then crosses lists until every thread that joined has run out.
 void VtpEngine::propagate_band_on(unsigned thread) {
   ParallelState& parallel = *parallel_;
   CrossingQueues& crossings = parallel.crossings;
@@ -193,15 +184,18 @@ void VtpEngine::propagate_band_on(unsigned thread) {
   };
   try {
     scratch.depth = 0;
-    // Its own share first: the same part of the wavefront as in the last band, whose lists it has in its cache.
-    const std::vector<std::uint32_t>& band = parallel.band;
+    // Its own share first: the vertices it reached in the bands before, whose lists it has in its cache. A
+    // share can be much larger than the others (the sources' is all of the first band): the lists it sets
+    // moving are handed to hungry threads as they come.
     for (unsigned k = 0; k < threads; ++k) {
       const unsigned share = (thread + k) % threads;
       if (!crossings.claim_share(share, thread)) continue;
-      for (std::size_t i = band.size() * share / threads; i < band.size() * (share + 1) / threads; ++i) {
-        enclose_concurrently(band[i], thread);
+      parallel.bands.take_share(share, [&](std::uint32_t v) {
+        if (!take_concurrently(v, thread)) return;
+        enclose_concurrently(v, thread);
         emit_lowered();
-      }
+        if (crossings.anyone_hungry()) crossings.feed_hungry(thread);
+      });
     }
     while (!crossings.aborted()) {
       std::uint32_t h;
@@ -224,6 +218,18 @@ void VtpEngine::propagate_band_on(unsigned thread) {
     throw;
   }
   leave();
+}
+
+// move_inside, with other threads running, for a vertex of the band under way's share that `thread` took:
+// whether v is still to be taken (false for an entry left behind when v was filed again, or one that lies
+// beyond the band, which is filed again now). v's lock orders this with lowering v: a path that lowers v
+// before it moves inside files nothing (v stays in the band), one after it makes v emit again.
+bool VtpEngine::take_concurrently(std::uint32_t v, unsigned thread) {
+  const SpinGuard guard(parallel_->vertex_locks[v]);
+  if (!parallel_->bands.take(v, state_[v] == VertexState::queued, distance_[v], thread)) return false;
+  state_[v] = VertexState::inside;
+  ++parallel_->scratch[thread].vertices_taken;
+  return true;
 }
 
 // enclose_vertex, with other threads running. A face joins the traversed area under its lock, which its

@@ -31,12 +31,12 @@ struct ParallelState {
     std::uint16_t depth = 0;             // of the crossing under way (0: enclosing a vertex)
     std::uint16_t deepest = 0;           // of the band's crossings so far
     bool targets_changed = false;
+    std::uint32_t vertices_taken = 0;  // in the band under way
     GeodesicStats stats;  // its propagations, merges, emissions, crossings and pruning time
   };
   std::vector<ThreadScratch> scratch;
   BandQueue bands;
   CrossingQueues crossings;
-  std::vector<std::uint32_t> band;  // the vertices the band under way moves inside
   // One lock per face guards the lists of its three halfedges (entering a face takes one lock, not three).
   std::unique_ptr<std::atomic<std::uint8_t>[]> face_locks;
   std::unique_ptr<std::atomic<std::uint8_t>[]> vertex_locks;

@@ -31,9 +31,6 @@ std::array<double, 3> engine_position(const SurfaceMesh& mesh, const LocatedPoin
   return sum;
 }
 
-// Vertex (or face) pops between two progress reports and checks for a stop request: a few milliseconds.
-constexpr std::uint64_t kProgressInterval = 4096;
-
 }  // namespace
 
 VtpEngine::VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh) {}

@@ -113,6 +113,8 @@ class VtpEngine {
   void move_inside(std::uint32_t v);
   void enter_faces_of(std::uint32_t v);
   void run_face_sorted();
+  // Vertex (or face) pops between two progress reports and checks for a stop request: a few milliseconds.
+  static constexpr std::uint64_t kProgressInterval = 4096;
   void checkpoint(std::uint64_t pops, double fraction);
   void enter_face(std::uint32_t f);
   void join_face(std::uint32_t f);
@@ -216,6 +218,7 @@ class VtpEngine {
   std::unique_ptr<ParallelState> parallel_;  // of the run under way, if parallel
   void propagate_band();
   void propagate_band_on(unsigned thread);
+  bool take_concurrently(std::uint32_t v, unsigned thread);
   void enclose_concurrently(std::uint32_t v, unsigned thread);
   void cross_concurrently(std::uint32_t h, unsigned thread);
   void relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread);

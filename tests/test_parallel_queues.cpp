@@ -19,10 +19,11 @@ namespace {
 struct Bands {
   std::vector<double> distance;
   std::vector<bool> queued;
+  unsigned threads;
   BandQueue queue;
 
-  Bands(std::vector<double> distances, unsigned threads, double width)
-      : distance(std::move(distances)), queued(distance.size(), true) {
+  Bands(std::vector<double> distances, unsigned thread_count, double width)
+      : distance(std::move(distances)), queued(distance.size(), true), threads(thread_count) {
     queue.start(distance.size(), threads, width);
     queue.clear_vertices(0, distance.size());
   }
@@ -30,17 +31,25 @@ struct Bands {
     distance[v] = d;
     queue.file(v, d, thread);
   }
-  // The next band's vertices, in the order the queue gives them (moved inside: no longer queued); empty once
-  // the queue is.
-  std::vector<std::uint32_t> next() {
+  // Starts the next band: false once the queue is empty.
+  bool start_next() {
+    return queue.next_band([&](std::uint32_t v) { return bool(queued[v]); },
+                           [&](std::uint32_t v) { return distance[v]; });
+  }
+  // The band under way's vertices, taken share by share, each share by its own thread (moved inside: no longer
+  // queued).
+  std::vector<std::uint32_t> take_band() {
     std::vector<std::uint32_t> taken;
-    queue.next_band([&](std::uint32_t v) { return bool(queued[v]); }, [&](std::uint32_t v) { return distance[v]; },
-                    [&](std::uint32_t v) {
-                      taken.push_back(v);
-                      queued[v] = false;
-                    });
+    for (unsigned share = 0; share < threads; ++share)
+      queue.take_share(share, [&](std::uint32_t v) {
+        if (!queue.take(v, queued[v], distance[v], share)) return;
+        taken.push_back(v);
+        queued[v] = false;
+      });
     return taken;
   }
+  // The next band's vertices, in the order the queue gives them; empty once the queue is.
+  std::vector<std::uint32_t> next() { return start_next() ? take_band() : std::vector<std::uint32_t>{}; }
 };
 
 TEST(BandQueue, GivesTheNearestBandFirstEachVertexInTheBandOfItsDistance) {
@@ -79,6 +88,40 @@ TEST(BandQueue, AVertexAtOrBehindTheBandUnderWayGoesIntoTheNextBand) {
   bands.file(2, 0.5);  // behind it
   EXPECT_EQ(bands.next(), (std::vector<std::uint32_t>{1, 2}));
   EXPECT_EQ(bands.queue.band_under_way(), 5u);
+}
+
+// A thread lowers a vertex of the band under way before its share is taken: it stays in the band (as the
+// sequential engine would pop it next), however near it now lies; a vertex behind that was not in the band
+// goes into the next.
+TEST(BandQueue, AVertexOfTheBandUnderWayLoweredBeforeItIsTakenStaysInIt) {
+  Bands bands({0, 0, 0}, 2, 1.0);
+  bands.file(0, 3.5, 1);
+  bands.file(1, 6.5, 1);
+  ASSERT_TRUE(bands.start_next());
+  ASSERT_EQ(bands.queue.band_under_way(), 4u);
+  bands.file(0, 0.5);  // by thread 0, before thread 1's share is taken
+  bands.file(1, 3.1);
+  bands.file(2, 3.9, 1);
+  EXPECT_EQ(bands.take_band(), (std::vector<std::uint32_t>{0}));
+  EXPECT_EQ(bands.next(), (std::vector<std::uint32_t>{1, 2}));  // band 5: thread 0's lists, then thread 1's
+  EXPECT_EQ(bands.queue.band_under_way(), 5u);
+  EXPECT_TRUE(bands.next().empty());
+}
+
+// A band whose vertices all left it (filed again, or moved inside) is passed over, not started.
+TEST(BandQueue, ABandWithNoVertexToTakeIsPassedOver) {
+  Bands bands({0, 0, 0}, 2, 1.0);
+  bands.file(0, 1.5);
+  bands.file(1, 1.7, 1);
+  bands.file(2, 4.5, 1);
+  bands.file(1, 0.5);  // band 1 now: its entry in band 2 is stale
+  ASSERT_TRUE(bands.start_next());
+  EXPECT_EQ(bands.take_band(), (std::vector<std::uint32_t>{1}));
+  bands.queued[0] = false;  // moved inside some other way
+  ASSERT_TRUE(bands.start_next());
+  EXPECT_EQ(bands.queue.band_under_way(), 5u);
+  EXPECT_EQ(bands.take_band(), (std::vector<std::uint32_t>{2}));
+  EXPECT_FALSE(bands.start_next());
 }
 
 TEST(BandQueue, VerticesBeyondTheSlotsWaitInTheLastAndComeInTheirOwnBand) {
