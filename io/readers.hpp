@@ -118,7 +118,8 @@ class TextCursor {
   std::string_view next_token();
   // The token next_token would return, without consuming it.
   std::string_view peek_token() const;
-  // Drop what is left of the current line.
+  // What is left of the current line, unread; and dropping it.
+  std::string_view rest_of_line() const { return line_; }
   void skip_rest_of_line() { line_ = {}; }
   // The next token, moving to later lines as needed; an empty view at the end of the file.
   std::string_view next_token_any_line();
