@@ -218,7 +218,7 @@ bool TextCursor::next_line() {
   const std::size_t rest = text.size() - next_line_start_;
   const void* lf = std::memchr(start, '\n', rest);
   const std::size_t to_lf = lf ? static_cast<std::size_t>(static_cast<const char*>(lf) - start) : rest;
-  const void* cr = std::memchr(start, '\r', to_lf);
+  const void* cr = may_hold_cr_ ? std::memchr(start, '\r', to_lf) : nullptr;
   const std::size_t end = next_line_start_ + (cr ? static_cast<std::size_t>(static_cast<const char*>(cr) - start) : to_lf);
   line_ = text.substr(next_line_start_, end - next_line_start_);
   const bool crlf = end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n';

@@ -47,11 +47,10 @@ bool read_plain_corners(std::string_view corners, std::size_t vertex_count, std:
   for (;;) {
     while (at != end && (*at == ' ' || *at == '\t')) ++at;
     if (at == end) return true;
-    std::uint64_t index = 0;
+    std::uint64_t index = 0;  // wraps past 19 digits, but more than 10 are refused
     const char* const first_digit = at;
-    for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10 && at - first_digit < 10; ++at)
-      index = index * 10 + digit;
-    if (at == first_digit || index == 0 || index > vertex_count) return false;
+    for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10; ++at) index = index * 10 + digit;
+    if (at == first_digit || at - first_digit > 10 || index == 0 || index > vertex_count) return false;
     if (at != end && *at == '/')  // texture and normal indices: not read, as corner_index does not read them
       while (at != end && *at != ' ' && *at != '\t') ++at;
     if (at != end && *at != ' ' && *at != '\t') return false;

@@ -206,8 +206,7 @@ void order_faces_in_space(const ParallelTeam& team, SurfaceMesh& s, BuildState& 
 void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   const MeshArray<std::uint32_t>& corners = state.corner_input_vertex;
   const std::size_t corner_count = corners.size(), vertex_count = s.input_positions.size() / 3;
-  state.corners_of_input_vertex =
-      group_by_key(team, corner_count, vertex_count, [&](std::size_t c) { return corners[c]; });
+  state.corners_of_input_vertex = group_by_keys(team, corners, vertex_count);
   const Groups& corners_of = state.corners_of_input_vertex;
   s.twin.assign(corner_count, kNone);
   s.corner_vertex.resize(corner_count);
