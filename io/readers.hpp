@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <exception>
 #include <span>
 #include <string>
@@ -108,7 +109,8 @@ class TextCursor {
         end_(end),
         comment_(comment),
         next_line_start_(begin == 0 ? byte_order_mark_size(file.bytes) : begin),
-        line_number_(lines_before) {}
+        line_number_(lines_before),
+        may_hold_cr_(begin < end && std::memchr(file.bytes.data() + begin, '\r', end - begin) != nullptr) {}
 
   // Move to the next line; false at the end of the file.
   bool next_line();
@@ -118,7 +120,8 @@ class TextCursor {
   std::string_view next_token();
   // The token next_token would return, without consuming it.
   std::string_view peek_token() const;
-  // Drop what is left of the current line.
+  // What is left of the current line, unread; and dropping it.
+  std::string_view rest_of_line() const { return line_; }
   void skip_rest_of_line() { line_ = {}; }
   // The next token, moving to later lines as needed; an empty view at the end of the file.
   std::string_view next_token_any_line();
@@ -150,6 +153,9 @@ class TextCursor {
   std::string_view terminator_;
   std::size_t next_line_start_;
   std::size_t line_number_ = 0;
+  // Whether a CR may end a line: the chunks of most files hold none, found by one memchr over the chunk, and
+  // their lines then need no search for one (a memchr call per line).
+  bool may_hold_cr_ = true;
 };
 
 // Where the team's chunks of a text body start: bounds[k] to bounds[k + 1] is chunk k, for k below

@@ -97,39 +97,48 @@ void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
   s.corner_enters_forward.resize(corner_count);
   s.fan_total_angle.resize(s.vertex_count);
   s.fan_closed.resize(s.vertex_count);
-  // Corners a broken fan never reaches (around a degenerate face) keep these defaults. Filled in corner order:
-  // through each vertex's corners it would be a scattered write per corner.
-  team.for_each(corner_count, kGeometryGrain, [&](std::size_t c) {
-    s.fan_angle_start[c] = 0.0;
-    s.corner_enters_forward[c] = 1;
-  });
   team.for_each(s.vertex_count, kGeometryGrain, [&](std::size_t vertex) {
     const auto v = static_cast<std::uint32_t>(vertex);
     const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
     // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.
     std::uint32_t start = s.vertex_corners[begin];
-    bool forward = true;
+    bool start_forward = true;
     s.fan_closed[v] = 1;
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t c = s.vertex_corners[i];
-      if (s.twin[c] == kNone) { start = c; forward = true; s.fan_closed[v] = 0; break; }
-      if (s.twin[prev_halfedge(c)] == kNone) { start = c; forward = false; s.fan_closed[v] = 0; break; }
+      if (s.twin[c] == kNone) { start = c; start_forward = true; s.fan_closed[v] = 0; break; }
+      if (s.twin[prev_halfedge(c)] == kNone) { start = c; start_forward = false; s.fan_closed[v] = 0; break; }
     }
-    double walked = 0;
-    std::uint32_t c = start;
-    for (std::uint32_t step = begin; step < end; ++step) {
-      s.fan_angle_start[c] = walked;
-      s.corner_enters_forward[c] = forward;
-      walked += s.corner_angle[c];
-      const std::uint32_t exit = forward ? prev_halfedge(c) : c;  // the corner's other edge at v
-      const std::uint32_t across = s.twin[exit];
-      if (across == kNone) break;
-      // The corner of v beyond that edge is entered through it: forward if v is the twin's tail.
-      forward = s.tail(across) == v;
-      c = forward ? across : next_halfedge(across);
-      if (c == start) break;
+    // Each corner has two edges at v and each edge one twin, so the walk meets no corner twice; it returns
+    // how many it met.
+    const auto walk = [&] {
+      double walked = 0;
+      std::uint32_t c = start, met = 0;
+      bool forward = start_forward;
+      for (std::uint32_t step = begin; step < end; ++step) {
+        s.fan_angle_start[c] = walked;
+        s.corner_enters_forward[c] = forward;
+        walked += s.corner_angle[c];
+        ++met;
+        const std::uint32_t exit = forward ? prev_halfedge(c) : c;  // the corner's other edge at v
+        const std::uint32_t across = s.twin[exit];
+        if (across == kNone) break;
+        // The corner of v beyond that edge is entered through it: forward if v is the twin's tail.
+        forward = s.tail(across) == v;
+        c = forward ? across : next_halfedge(across);
+        if (c == start) break;
+      }
+      s.fan_total_angle[v] = walked;
+      return met;
+    };
+    if (walk() == end - begin) return;
+    // A broken fan (around a degenerate face) leaves corners unreached: they take the defaults, and the walk
+    // writes the reached ones again. Rare, so that the common fan writes each corner once.
+    for (std::uint32_t i = begin; i < end; ++i) {
+      s.fan_angle_start[s.vertex_corners[i]] = 0.0;
+      s.corner_enters_forward[s.vertex_corners[i]] = 1;
     }
-    s.fan_total_angle[v] = walked;
+    walk();
   });
 }
 

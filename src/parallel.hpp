@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <numeric>
+#include <span>
 #include <stop_token>
 #include <vector>
 
@@ -141,14 +142,14 @@ struct Groups {
   const std::uint32_t* end(std::size_t group) const { return items.data() + offsets[group + 1]; }
 };
 
-// Groups the items [0, count) by key_of(item) in [0, group_count). Two stable passes: first by the key's high
-// bits into at most kCoarseGroups ranges of keys (each range of items counted into its own row of
+// Groups the items [0, keys.size()) by their keys, each in [0, group_count). Two stable passes: first by the
+// key's high bits into at most kCoarseGroups ranges of keys (each range of items counted into its own row of
 // counters, so no counter is shared), then each range on its own by the whole key. Linear in count +
 // group_count however the keys are distributed, and the same result on any thread count.
-template <class KeyOf>
-Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t group_count, KeyOf&& key_of) {
+inline Groups group_by_keys(const ParallelTeam& team, std::span<const std::uint32_t> keys, std::size_t group_count) {
   constexpr std::size_t kGrain = 1 << 14;
   constexpr std::size_t kCoarseGroups = 1 << 12;
+  const std::size_t count = keys.size();
   Groups groups;
   groups.offsets.resize(group_count + 1);
   groups.items.resize(count);
@@ -156,10 +157,6 @@ Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t gro
     std::fill(groups.offsets.begin(), groups.offsets.end(), 0u);
     return groups;
   }
-  MeshArray<std::uint32_t> keys(count);
-  team.for_ranges(count, kGrain, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) keys[i] = static_cast<std::uint32_t>(key_of(i));
-  });
   int shift = 0;
   while (((group_count - 1) >> shift) >= kCoarseGroups) ++shift;
   const std::size_t coarse_count = ((group_count - 1) >> shift) + 1;
@@ -216,6 +213,18 @@ Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t gro
   });
   groups.offsets[group_count] = static_cast<std::uint32_t>(count);
   return groups;
+}
+
+// Groups the items [0, count) by key_of(item) in [0, group_count), as group_by_keys does (the keys computed
+// once, on the team).
+template <class KeyOf>
+Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t group_count, KeyOf&& key_of) {
+  constexpr std::size_t kGrain = 1 << 14;
+  MeshArray<std::uint32_t> keys(count);
+  team.for_ranges(count, kGrain, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) keys[i] = static_cast<std::uint32_t>(key_of(i));
+  });
+  return group_by_keys(team, keys, group_count);
 }
 
 // Union-find whose unions may run on several threads at once: a root is linked below a smaller root with a

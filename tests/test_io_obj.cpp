@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -60,6 +61,39 @@ TEST_F(IoObj, SlashFormsAndNegativeIndices) {
                                              "f -2 -4 -1\n"
                                              "f -1/1/1 -2//1 -3/2\n"));
   EXPECT_EQ(soup.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 1, 3, 1, 2, 3, 2, 0, 3, 3, 2, 1}));
+}
+
+// Plain face corners ("12", "12/3", "12//5") are read straight from the line, any other form token by token:
+// seeded random files of polygons, their corners written plain, with a '+' and counted back from the latest
+// vertex (both read as tokens), read to the same triangles.
+TEST_F(IoObj, PlainCornersReadAsTheTokensRead) {
+  std::mt19937 random(38);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::string forms[3];
+    std::size_t vertices = 0;
+    const auto blanks = [&] { return std::string(1 + random() % 2, random() % 3 == 0 ? '\t' : ' '); };
+    for (int line = 0; line < 300; ++line) {
+      if (vertices < 3 || random() % 3 == 0) {
+        for (std::string& form : forms) form += "v 0 " + std::to_string(line) + " 1\n";
+        ++vertices;
+        continue;
+      }
+      const std::size_t corners = 3 + random() % 4;
+      for (std::string& form : forms) form += "f";
+      for (std::size_t k = 0; k < corners; ++k) {
+        const std::size_t index = 1 + random() % vertices;
+        const std::string tail = std::array<std::string, 4>{"", "/7", "//2", "/3/4"}[random() % 4];
+        const std::string space = blanks();
+        forms[0] += space + std::to_string(index) + tail;
+        forms[1] += space + "+" + std::to_string(index) + tail;
+        forms[2] += space + "-" + std::to_string(vertices + 1 - index) + tail;
+      }
+      for (std::string& form : forms) form += random() % 2 ? "\n" : " \n";
+    }
+    const MeshSoup plain = read_mesh_soup(write("plain.obj", forms[0]));
+    EXPECT_EQ(read_mesh_soup(write("signed.obj", forms[1])).triangles, plain.triangles) << "trial " << trial;
+    EXPECT_EQ(read_mesh_soup(write("relative.obj", forms[2])).triangles, plain.triangles) << "trial " << trial;
+  }
 }
 
 TEST_F(IoObj, NegativeIndicesCountBackFromTheLatestVertex) {
