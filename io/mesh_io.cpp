@@ -301,8 +301,8 @@ std::int64_t TextCursor::read_integer(std::string_view what) {
 }
 
 std::array<double, 3> TextCursor::read_position() {
-  // Three plain decimals, each ending at a blank or the line's end, read in one pass over the line (without
-  // the tokens: half the instructions of a vertex line); any other line through the tokens below.
+  // Three plain decimals, each ending at a blank or the line's end, read in one pass over the line, without
+  // cutting it into tokens first; any other line through the tokens below.
   std::array<double, 3> plain;
   const char* at = line_.data();
   const char* const end = at + line_.size();

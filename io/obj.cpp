@@ -37,9 +37,9 @@ bool is_statement(std::string_view token, char letter) { return token.size() == 
 
 // The corners of the face line most files write, plain 1-based indices each perhaps followed by /vt or //vn,
 // separated by spaces or tabs ("f 12 7 9", "f 12/3/12 7/4/7 9/5/9"), read straight from the rest of the
-// line (`corners`) into `polygon` as zero-based indices: about a third of corner_index's instructions on
-// tokens. False for anything else (a sign, a comment, index 0 or out of range, a stray character), which
-// the tokens then read, or name as the error.
+// line (`corners`) into `polygon` as zero-based indices, without cutting the line into tokens first. False
+// for anything else (a sign, a comment, index 0 or out of range, a stray character), which the tokens then
+// read, or name as the error.
 bool read_plain_corners(std::string_view corners, std::size_t vertex_count, std::vector<std::uint32_t>& polygon) {
   polygon.clear();
   const char* at = corners.data();

@@ -233,8 +233,8 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
           return x;
         };
         // Up to kHashedCorners corners (nearly every vertex), sides are grouped in a small open-addressing
-        // table, stamped with the vertex so that it is never cleared: a sixth fewer instructions than sorting
-        // them (the step's, callgrind, nefertiti). More corners are sorted, so that no vertex is quadratic.
+        // table, stamped with the vertex so that it is never cleared: the step took 868 instructions per face
+        // with sorting, 741 so (callgrind, nefertiti). More corners are sorted, so that no vertex is quadratic.
         constexpr std::uint32_t kHashedCorners = 16, kTableBits = 6;  // a table at most half full
         struct SideGroup {
           std::uint64_t stamp = 0;  // v + 1 while the group belongs to vertex v
