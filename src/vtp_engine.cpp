@@ -23,12 +23,7 @@ namespace {
 // A located point's position in space, in the engine's frame.
 std::array<double, 3> engine_position(const SurfaceMesh& mesh, const LocatedPoint& point) {
   if (point.vertex != kNone) return mesh.position(mesh.surface_to_input[point.vertex]);
-  std::array<double, 3> sum{};
-  for (std::uint32_t k = 0; k < 3; ++k) {
-    const std::array<double, 3> corner = mesh.position(mesh.surface_to_input[mesh.corner_vertex[3 * point.face + k]]);
-    for (std::uint32_t i = 0; i < 3; ++i) sum[i] += point.barycentric[k] * corner[i];
-  }
-  return sum;
+  return face_point_position(mesh, point.face, point.barycentric, PositionFrame::engine);
 }
 
 // Vertex (or face) pops between two progress reports and checks for a stop request: a few milliseconds.
