@@ -54,4 +54,5 @@ NB_MODULE(_core, m) {
   exactgeo::python::register_mesh(m);
   exactgeo::python::register_solver(m);
   exactgeo::python::register_many_sources(m);
+  exactgeo::python::register_files(m);
 }

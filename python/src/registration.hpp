@@ -13,5 +13,6 @@ void register_field_classes(nb::module_& m);  // field_classes.cpp: statistics, 
 void register_mesh(nb::module_& m);           // mesh_bindings.cpp: meshes, files, surface points, shapes
 void register_solver(nb::module_& m);         // solver_bindings.cpp: GeodesicSolver, its runs and queries
 void register_many_sources(nb::module_& m);   // many_sources_bindings.cpp: matrices, pairs, sampling
+void register_files(nb::module_& m);          // file_bindings.cpp: a mesh with values as VTK and PLY files
 
 }  // namespace exactgeo::python
