@@ -8,6 +8,7 @@
 
 #include "exactgeo/error.hpp"
 #include "face_windows.hpp"
+#include "nearest_source.hpp"
 #include "surface_point.hpp"
 #include "vtp_engine.hpp"
 #include "worker_pool.hpp"
@@ -128,7 +129,7 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
   const std::span<const double> d = engine.distances();
   // With one source every reachable vertex belongs to it; otherwise follow the pseudo-source chains.
   std::vector<std::uint32_t> labels;
-  if (source_count > 1) labels = engine.vertex_labels();
+  if (source_count > 1) labels = detail::vertex_labels(engine);
   const auto label_of_vertex = [&](std::uint32_t s) { return labels.empty() ? 0u : labels[s]; };
 
   result.distances.resize(mesh_->vertex_count());
@@ -155,7 +156,8 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
     const double distance = engine.target_distances()[t];
     if (!(distance <= cutoff)) continue;
     result.target_distances[t] = surface.to_input_length(distance);
-    result.target_nearest_source[t] = labels.empty() ? 0u : engine.label_of(engine.target_arrivals()[t].from, labels);
+    result.target_nearest_source[t] =
+        labels.empty() ? 0u : detail::label_of(engine, engine.target_arrivals()[t].from, labels);
   }
   result.stats.propagation_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

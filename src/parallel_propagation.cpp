@@ -280,7 +280,7 @@ void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
   const std::uint64_t propagations =
       cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], reach, at_apex);
   (prime ? scratch.stats.prime_propagations : scratch.stats.secondary_propagations) += propagations;
-  if (!face_target_offsets_.empty()) {
+  if (targets_.in_faces()) {
     const std::lock_guard lock(parallel_->targets_mutex);
     evaluate_targets(h, incoming);
   }

@@ -8,10 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "assert.hpp"
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
-#include "assert.hpp"
 #include "face_windows.hpp"
+#include "nearest_source.hpp"
 #include "surface_point.hpp"
 #include "tolerances.hpp"
 #include "vtp_engine.hpp"
@@ -393,7 +394,7 @@ GeodesicPath GeodesicSolver::path_to_point(const SurfacePoint& surface_point) co
   const double d = kept.reach(surface, engine_->distances(), point, arrival);
   if (std::isinf(d) || d > engine_->cutoff()) return {};  // unreached, or beyond the cut-off
   GeodesicPath path = detail::trace_to_point(*mesh_, *engine_, point, arrival);
-  path.source = engine_->label_of(arrival.from);
+  path.source = detail::label_of(*engine_, arrival.from);
   return path;
 }
 

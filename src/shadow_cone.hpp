@@ -1,7 +1,7 @@
 // The shadow cone of a pseudo-source (paper Section 5.2, "Saddle Vertices"): the directions around a vertex
 // into which a shortest path that arrived there can go on, at least pi from its arrival direction on both
 // sides, and the part of each opposite edge that rays in those directions reach. Only these get windows when
-// the vertex emits. Inline: the engine asks once per emission.
+// the vertex emits, which for_each_emission_part lists. Inline: the engine asks once per emission.
 #pragma once
 
 #include <algorithm>
@@ -10,9 +10,11 @@
 #include <cstdint>
 #include <numbers>
 
+#include "arrival.hpp"
+#include "propagation.hpp"
 #include "surface_mesh.hpp"
 #include "tolerances.hpp"
-#include "vtp_engine.hpp"
+#include "windows.hpp"
 
 namespace exactgeo::detail {
 
@@ -95,6 +97,27 @@ inline ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Ar
   const double arrival = mesh.fan_angle_start[corner] +
                          (mesh.corner_enters_forward[corner] ? local : corner_angle - local);
   return ShadowCone::behind(arrival, mesh.fan_total_angle[v], mesh.fan_closed[v]);
+}
+
+// The parts of pseudo-source v's emission at distance d, reached as `arrival` says, in order: offer(u,
+// distance, arrival) for each neighbour u, place(g, window) for each window wider than min_width across the
+// edges opposite v, within its shadow cone. Reads only the mesh.
+template <class Offer, class Place>
+void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, const Arrival& arrival,
+                            double min_width, Offer&& offer, Place&& place) {
+  const ShadowCone cone = shadow_cone(mesh, v, arrival);
+  for (std::uint32_t i = mesh.vertex_corner_offsets[v]; i < mesh.vertex_corner_offsets[v + 1]; ++i) {
+    const std::uint32_t c = mesh.vertex_corners[i];  // halfedge leaving v
+    const std::uint32_t opposite = next_halfedge(c), back = prev_halfedge(c);
+    offer(mesh.head(c), d + mesh.halfedges[c].length, Arrival{v, back, std::nan(""), mesh.halfedges[back].length, 0});
+    offer(mesh.apex(c), d + mesh.halfedges[back].length, Arrival{v, c, std::nan(""), 0, 0});
+    const std::uint32_t g = mesh.twin[opposite];
+    if (g == kNone) continue;
+    const HalfedgeGeometry& o = mesh.halfedges[opposite];
+    const auto [b0, b1] = cone.part_of_opposite_edge(mesh, c);
+    if (!(b1 - b0 > min_width)) continue;
+    place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh.tail(g) != mesh.tail(opposite)));
+  }
 }
 
 }  // namespace exactgeo::detail

@@ -68,6 +68,17 @@ LocatedPoint locate_checked(const SurfaceMesh& mesh, const SurfacePoint& point, 
   return located;
 }
 
+std::array<double, 3> face_point_position(const SurfaceMesh& mesh, std::uint32_t face,
+                                          const std::array<double, 3>& barycentric, PositionFrame frame) {
+  std::array<double, 3> sum = {0, 0, 0};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const std::uint32_t v = mesh.surface_to_input[mesh.corner_vertex[3 * face + k]];
+    const std::array<double, 3> corner = frame == PositionFrame::input ? mesh.input_position(v) : mesh.position(v);
+    for (std::uint32_t axis = 0; axis < 3; ++axis) sum[axis] += barycentric[k] * corner[axis];
+  }
+  return sum;
+}
+
 std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex) {
   const std::size_t vertex_count = mesh.input_positions.size() / 3;
   if (vertex >= vertex_count)
@@ -144,12 +155,7 @@ SurfacePoint edge_point(const Mesh& mesh, std::uint32_t from, std::uint32_t to, 
 std::array<double, 3> point_position(const Mesh& mesh, const SurfacePoint& point) {
   const detail::SurfaceMesh& s = mesh.surface();
   const detail::LocatedPoint located = detail::locate_checked(s, point, "point");
-  std::array<double, 3> p = {0, 0, 0};
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t v = s.surface_to_input[s.corner_vertex[3 * located.face + k]];
-    for (int axis = 0; axis < 3; ++axis) p[axis] += located.barycentric[k] * s.input_positions[3 * v + axis];
-  }
-  return p;
+  return detail::face_point_position(s, located.face, located.barycentric, detail::PositionFrame::input);
 }
 
 }  // namespace exactgeo

@@ -34,6 +34,15 @@ std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std
 // boundary edge.
 LocatedPoint seen_across_edge(const SurfaceMesh& mesh, const LocatedPoint& point);
 
+// Which coordinates a position in space is given in: the input's, or the engine's frame (the input's times
+// 2^scale_exponent, see SurfaceMesh).
+enum class PositionFrame : std::uint8_t { input, engine };
+
+// The point with barycentric coordinates `barycentric` on surface face `face`, in space, in `frame`: the
+// one sum of the corners behind the public point_position (input) and the goal of a goal-directed run (engine).
+std::array<double, 3> face_point_position(const SurfaceMesh& mesh, std::uint32_t face,
+                                          const std::array<double, 3>& barycentric, PositionFrame frame);
+
 // The point in the frame of halfedge h, a halfedge of the point's face (tail at the origin, head at
 // (length, 0), apex above the x axis).
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h);

@@ -23,12 +23,7 @@ namespace {
 // A located point's position in space, in the engine's frame.
 std::array<double, 3> engine_position(const SurfaceMesh& mesh, const LocatedPoint& point) {
   if (point.vertex != kNone) return mesh.position(mesh.surface_to_input[point.vertex]);
-  std::array<double, 3> sum{};
-  for (std::uint32_t k = 0; k < 3; ++k) {
-    const std::array<double, 3> corner = mesh.position(mesh.surface_to_input[mesh.corner_vertex[3 * point.face + k]]);
-    for (std::uint32_t i = 0; i < 3; ++i) sum[i] += point.barycentric[k] * corner[i];
-  }
-  return sum;
+  return face_point_position(mesh, point.face, point.barycentric, PositionFrame::engine);
 }
 
 }  // namespace
@@ -83,10 +78,11 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   pending_front_ = 0;
   emit_queue_.clear();
   iteration_ = 0;
-  register_targets(targets);
+  targets_.assign(mesh_, targets);
+  targets_changed_ = !targets.empty();
   // The parallel bands keep the plain order: pair_distances runs each search on one thread.
-  has_goal_ = goal_directed_ && targets_.size() == 1 && threads_ == 1;
-  if (has_goal_) goal_ = engine_position(mesh_, targets_[0]);
+  goal_.clear();
+  if (goal_directed_ && targets.size() == 1 && threads_ == 1) goal_.aim_at(engine_position(mesh_, targets[0]));
   if (options.keep_windows) {
     if (!kept_windows_) kept_windows_ = std::make_unique<FaceWindows>();
     kept_windows_->start(mesh_.halfedges.size(), threads_,
@@ -115,8 +111,9 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
     run_vertex_sorted();
   }
   // Paths through a corner are only final now that every vertex distance is.
-  for (std::uint32_t f = 0; f + 1 < face_target_offsets_.size(); ++f)
-    if (face_target_offsets_[f] != face_target_offsets_[f + 1]) evaluate_targets_from_corners(f);
+  if (targets_.in_faces())
+    for (std::uint32_t f = 0; f < mesh_.face_count(); ++f)
+      if (!targets_.in_face(f).empty()) evaluate_targets_from_corners(f);
   targets_changed_ = true;
   update_cutoff();
   stats_.window_propagations = stats_.prime_propagations + stats_.secondary_propagations;
@@ -248,8 +245,7 @@ void VtpEngine::join_face(std::uint32_t f) {
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const std::uint32_t g = mesh_.twin[h];
     if (g == kNone || face_visited_at_[face_of(g)] != kNone || face_queue_.contains(face_of(g))) continue;
-    const double key = std::max(distance_[mesh_.tail(h)], distance_[mesh_.head(h)]) +
-                       (has_goal_ ? goal_gap(mesh_.apex(g)) : 0.0);
+    const double key = goal_.key(mesh_, mesh_.apex(g), std::max(distance_[mesh_.tail(h)], distance_[mesh_.head(h)]));
     const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
     face_queue_.push_or_decrease(face_of(g), key);
   }
@@ -275,12 +271,11 @@ void VtpEngine::start_point_source(std::uint32_t site) {
                                              mesh_.tail(across) != mesh_.tail(h)));
     }
     // Targets in the same face are reached straight.
-    if (face_target_offsets_.empty()) continue;
+    if (!targets_.in_faces()) continue;
     const auto [sx, sy] = position_in_frame(mesh_, in_face, 3 * f);
-    for (std::uint32_t i = face_target_offsets_[f]; i < face_target_offsets_[f + 1]; ++i) {
-      const std::uint32_t t = face_targets_[i];
-      const auto [qx, qy] = position_in_frame(mesh_, targets_[t], 3 * f);
-      offer_to_target(t, length(qx - sx, qy - sy), Arrival{id, 3 * f, std::nan(""), sx, sy});
+    for (const std::uint32_t t : targets_.in_face(f)) {
+      const auto [qx, qy] = position_in_frame(mesh_, targets_.points()[t], 3 * f);
+      targets_.offer(t, length(qx - sx, qy - sy), Arrival{id, 3 * f, std::nan(""), sx, sy}, cutoff_, targets_changed_);
     }
   }
 }
@@ -288,7 +283,7 @@ void VtpEngine::start_point_source(std::uint32_t site) {
 // The queue push, out of line (and timed when asked): relax runs for every list crossing and stays small.
 void VtpEngine::push_vertex(std::uint32_t v, double d) {
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-  vertex_queue_.push_or_decrease(v, has_goal_ ? d + goal_gap(v) : d);
+  vertex_queue_.push_or_decrease(v, goal_.key(mesh_, v, d));
 }
 
 // v's distance as it stands, while other threads may be lowering it (under v's lock).
@@ -320,48 +315,6 @@ void VtpEngine::schedule(std::uint32_t h) {
   pending_.push_back(h);
 }
 
-// A window no point of which lies within the cut-off can only lead further away. In a goal-directed run, a
-// window no path through which reaches the goal within the cut-off (docs/pairs.md): a path through edge point
-// X = (x, 0) is at least w.sigma + |p - X| long to X and |X - goal| from there, and the sum is smallest where
-// the straight line from p (below the edge's line, py <= 0) to the goal unfolded above it crosses the line.
-bool VtpEngine::beyond_cutoff(const Window& w, const GoalAcross& goal) const {
-  if (cutoff_ == HUGE_VAL) return false;
-  if (!goal.set) return w.sigma + length(std::clamp(w.px, w.b0, w.b1) - w.px, w.py) > cutoff_ + tolerances_.prune;
-  const double below = -std::abs(w.py);  // |p - X| is the same on either side of the line
-  const double rise = goal.y - below;
-  const double crossing = rise > 0 ? w.px + (goal.x - w.px) * (-below / rise) : w.px;
-  const double x = std::clamp(crossing, w.b0, w.b1);
-  return w.sigma + length(x - w.px, below) + length(goal.x - x, goal.y) > cutoff_ + tolerances_.prune;
-}
-
-// Rotated about the edge's line into the halfedge's plane, on the side away from the pseudo-sources: x along
-// the edge from its tail, y the distance from the line (as a cross product, which keeps it accurate when the
-// goal lies near the line).
-VtpEngine::GoalAcross VtpEngine::goal_across(std::uint32_t h) const {
-  if (!has_goal_) return {};
-  const std::array<double, 3> a = mesh_.position(mesh_.surface_to_input[mesh_.tail(h)]);
-  const std::array<double, 3> b = mesh_.position(mesh_.surface_to_input[mesh_.head(h)]);
-  const double length = mesh_.halfedges[h].length;
-  if (!(length > 0)) return {0.0, goal_gap(mesh_.tail(h)), true};
-  const double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const double q[3] = {goal_[0] - a[0], goal_[1] - a[1], goal_[2] - a[2]};
-  const double c[3] = {e[1] * q[2] - e[2] * q[1], e[2] * q[0] - e[0] * q[2], e[0] * q[1] - e[1] * q[0]};
-  return {(e[0] * q[0] + e[1] * q[1] + e[2] * q[2]) / length, std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / length,
-          true};
-}
-
-double VtpEngine::goal_gap(std::uint32_t v) const {
-  const std::array<double, 3> p = mesh_.position(mesh_.surface_to_input[v]);
-  const double dx = p[0] - goal_[0], dy = p[1] - goal_[1], dz = p[2] - goal_[2];
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
-}
-
-// In a goal-directed run, every path through v to the goal is at least d plus the straight line from v.
-bool VtpEngine::emission_beyond_cutoff(std::uint32_t v, double d) const {
-  if (!has_goal_) return d > cutoff_;
-  return cutoff_ < HUGE_VAL && d + goal_gap(v) > cutoff_ + tolerances_.prune;
-}
-
 // A window just created on g (by a pseudo-source or a source point): it waits on the wavefront, or moves on
 // at once if g's face is already traversed.
 void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
@@ -375,18 +328,11 @@ void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
   }
 }
 
-FaceFrame VtpEngine::face_frame(std::uint32_t h) const {
-  const HalfedgeGeometry& g = mesh_.halfedges[h];
-  return {g.length, g.apex_x, g.apex_y, mesh_.halfedges[prev_halfedge(h)].length,
-          mesh_.halfedges[next_halfedge(h)].length};
-}
-
 // Face-sorted: windows arriving on g, an edge of a triangle outside the traversed area, may bring its
 // priority (the distance to the corner opposite g) forward.
 void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
   if (arriving.empty()) return;
-  const double key =
-      reach_apex(arriving, face_frame(g), key_splits_).distance + (has_goal_ ? goal_gap(mesh_.apex(g)) : 0.0);
+  const double key = goal_.key(mesh_, mesh_.apex(g), reach_apex(arriving, face_frame(mesh_, g), key_splits_).distance);
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
   face_queue_.push_or_decrease(face_of(g), key);
 }
@@ -402,11 +348,12 @@ void VtpEngine::emit(std::uint32_t v) {
   emitted_at_[v] = distance_[v];
   ++stats_.pseudo_source_emissions;
   for_each_emission_part(
-      v, distance_[v], arrival_[v], [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
+      mesh_, v, distance_[v], arrival_[v], tolerances_.min_width,
+      [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
       [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
 }
 
-// emit, with other threads running (parallel_propagation.cpp; written here, where for_each_emission_part is):
+// emit, with other threads running (parallel_propagation.cpp; written here, beside emit):
 // v's distance and arrival are read under its lock, the distances it offers and the windows it places go in
 // under theirs.
 void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
@@ -422,28 +369,9 @@ void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
   }
   ++parallel_->scratch[thread].stats.pseudo_source_emissions;
   for_each_emission_part(
-      v, d, arrival, [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
+      mesh_, v, d, arrival, tolerances_.min_width,
+      [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
       [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });
-}
-
-// The parts of v's emission at distance d, reached as `arrival` says, in order: offer(u, distance, arrival)
-// for each neighbour u, place(g, window) for each window. Reads only the mesh.
-template <class Offer, class Place>
-void VtpEngine::for_each_emission_part(std::uint32_t v, double d, const Arrival& arrival, Offer&& offer,
-                                       Place&& place) const {
-  const ShadowCone cone = shadow_cone(mesh_, v, arrival);
-  for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
-    const std::uint32_t c = mesh_.vertex_corners[i];  // halfedge leaving v
-    const std::uint32_t opposite = next_halfedge(c), back = prev_halfedge(c);
-    offer(mesh_.head(c), d + mesh_.halfedges[c].length, Arrival{v, back, std::nan(""), mesh_.halfedges[back].length, 0});
-    offer(mesh_.apex(c), d + mesh_.halfedges[back].length, Arrival{v, c, std::nan(""), 0, 0});
-    const std::uint32_t g = mesh_.twin[opposite];
-    if (g == kNone) continue;
-    const HalfedgeGeometry& o = mesh_.halfedges[opposite];
-    const auto [b0, b1] = cone.part_of_opposite_edge(mesh_, c);
-    if (!(b1 - b0 > tolerances_.min_width)) continue;
-    place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh_.tail(g) != mesh_.tail(opposite)));
-  }
 }
 
 void VtpEngine::drain() {
@@ -538,7 +466,7 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
     propagations = cross_list(h, incoming, splits_, to_ac_, to_bc_, reach, at_apex);
   }
   relax(mesh_.apex(h), reach.distance, at_apex);
-  if (!face_target_offsets_.empty()) evaluate_targets(h, incoming);
+  if (targets_.in_faces()) evaluate_targets(h, incoming);
   (prime ? stats_.prime_propagations : stats_.secondary_propagations) += propagations;
   lists_.clear(h, 0);
   deliver(prev_halfedge(h), to_ac_, mesh_.tail(h), prime);
@@ -562,7 +490,7 @@ std::span<const Window> VtpEngine::list_to_cross(std::uint32_t h, unsigned threa
 std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> incoming, std::vector<double>& splits,
                                     std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
                                     Arrival& at_apex) const {
-  const FaceFrame frame = face_frame(h);
+  const FaceFrame frame = face_frame(mesh_, h);
   reach = reach_apex(incoming, frame, splits);
   EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
   const Window& best = incoming[reach.window];
@@ -570,14 +498,8 @@ std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> inc
   const CornerDistances corners = {distance_now(mesh_.tail(h)), distance_now(mesh_.head(h)),
                                    std::min(distance_now(mesh_.apex(h)), reach.distance)};
   return cross_face(incoming, splits, frame, reach, options_.rule1, corners,
-                    exit_through(prev_halfedge(h), mesh_.tail(h)), exit_through(next_halfedge(h), mesh_.head(h)),
-                    tolerances_, to_ac, to_bc);
-}
-
-// Where windows crossing to `side`, measured from its end `origin`, continue (see SideExit).
-SideExit VtpEngine::exit_through(std::uint32_t side, std::uint32_t origin) const {
-  const std::uint32_t g = mesh_.twin[side];
-  return {g != kNone, g != kNone && mesh_.tail(g) != origin};
+                    exit_through(mesh_, prev_halfedge(h), mesh_.tail(h)),
+                    exit_through(mesh_, next_halfedge(h), mesh_.head(h)), tolerances_, to_ac, to_bc);
 }
 
 // Hands windows that crossed to `side` (a halfedge of the face just crossed; their frame has `origin` at
@@ -600,8 +522,7 @@ void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::u
 // Of the windows that crossed to `side` (already in the frame of the halfedge on the other side, as
 // cross_face leaves them), drops those beyond the cut-off (the kept ones come first), and says how they join
 // that halfedge's list.
-VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin,
-                                         bool prime) const {
+Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime) const {
   const std::uint32_t g = mesh_.twin[side];
   if (g == kNone) return {kNone, Joining::inside, 0};  // a boundary edge: the windows leave the surface
   const bool reversed = mesh_.tail(g) != origin;
@@ -622,150 +543,26 @@ VtpEngine::Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> w
   return {g, joining, static_cast<std::uint32_t>(kept - windows.begin())};
 }
 
-// Places the last `added` windows of `list` (an edge's list, extended by the windows arriving there) among
-// the ones before them. Rules 2 and 3 prune nothing here: the list is pruned as a whole when it crosses
-// (prune_list), once however many runs have joined it.
-// - inside (to keep moving), prime_merge (Rule 3's PrimeMerge on a new wavefront edge) and wavefront_back
-//   (on an older wavefront edge, from the side of its head): they stay at the end;
-// - otherwise they join it by SecondMerge (paper Section 5.1): order-free, windows that came from the side
-//   of the edge's tail go first; order-preserving, each is inserted where its start belongs.
-void VtpEngine::join(std::span<Window> list, std::size_t added, Joining joining) {
-  const std::size_t old_size = list.size() - added;
-  if (joining == Joining::wavefront_front)
-    std::rotate(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(old_size), list.end());
-  else if (joining == Joining::wavefront_ordered)
-    insert_in_order(list, old_size);
-}
-
 // ---------------------------------------------------------------------------------------------------
 // Targets.
 
-void VtpEngine::register_targets(std::span<const LocatedPoint> targets) {
-  targets_.assign(targets.begin(), targets.end());
-  target_distance_.assign(targets.size(), HUGE_VAL);
-  target_arrival_.assign(targets.size(), Arrival{});
-  face_target_offsets_.clear();
-  face_targets_.clear();
-  is_target_vertex_.clear();
-  targets_changed_ = !targets.empty();
-  if (targets.empty()) return;
-  is_target_vertex_.assign(mesh_.vertex_count, 0);
-  face_target_offsets_.assign(mesh_.face_count() + 1, 0);
-  for (const LocatedPoint& t : targets_) {
-    if (t.vertex != kNone) {
-      // A target at a vertex is that input vertex, carried by whichever of its copies is nearest: lowering any
-      // copy may lower it.
-      for (std::uint32_t copy : mesh_.copies_with(t.vertex)) is_target_vertex_[copy] = 1;
-    } else {
-      ++face_target_offsets_[t.face + 1];
-    }
-  }
-  for (std::uint32_t f = 0; f < mesh_.face_count(); ++f) face_target_offsets_[f + 1] += face_target_offsets_[f];
-  face_targets_.resize(face_target_offsets_.back());
-  std::vector<std::uint32_t> fill(face_target_offsets_.begin(), face_target_offsets_.end() - 1);
-  for (std::uint32_t t = 0; t < targets_.size(); ++t)
-    if (targets_[t].vertex == kNone) face_targets_[fill[targets_[t].face]++] = t;
-  // Each face's targets fill exactly its slots [offsets[f], offsets[f + 1]).
-  EXACTGEO_ASSERT(std::equal(fill.begin(), fill.end(), face_target_offsets_.begin() + 1));
-}
-
-void VtpEngine::offer_to_target(std::uint32_t target, double d, const Arrival& arrival) {
-  double& best = target_distance_[target];
-  if (!(d < best)) return;
-  if (best >= cutoff_) targets_changed_ = true;  // it may have been the farthest
-  best = d;
-  target_arrival_[target] = arrival;
-}
-
-// The straight rays of a list entering face(h) reach the targets inside the face: a target q is reached
-// through window w if the ray from w's pseudo-source to q crosses the window. The list is taken before
-// Rule 1 and the vertex checks, which only prune what leaves the face.
+// The targets in face(h) through the list entering it, and from its corners (targets.hpp).
 void VtpEngine::evaluate_targets(std::uint32_t h, std::span<const Window> list) {
-  const std::uint32_t f = face_of(h);
-  for (std::uint32_t i = face_target_offsets_[f]; i < face_target_offsets_[f + 1]; ++i) {
-    const std::uint32_t t = face_targets_[i];
-    const auto [qx, qy] = position_in_frame(mesh_, targets_[t], h);
-    for (const Window& w : list) {
-      double x = 0;
-      const double d = distance_through_window(w, qx, qy, x);
-      if (d < HUGE_VAL) offer_to_target(t, d, Arrival{w.pseudo_source, h, x, w.px, w.py});
-    }
-  }
-  evaluate_targets_from_corners(f);
+  targets_.evaluate_list(mesh_, h, list, cutoff_, targets_changed_);
+  evaluate_targets_from_corners(face_of(h));
 }
 
-// Paths that reach a target in face f straight from one of its corners.
 void VtpEngine::evaluate_targets_from_corners(std::uint32_t f) {
-  for (std::uint32_t i = face_target_offsets_[f]; i < face_target_offsets_[f + 1]; ++i) {
-    const std::uint32_t t = face_targets_[i];
-    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-      const std::uint32_t corner = mesh_.apex(h);
-      const double at_corner = distance_now(corner);
-      if (at_corner == HUGE_VAL) continue;
-      const HalfedgeGeometry& g = mesh_.halfedges[h];
-      const auto [qx, qy] = position_in_frame(mesh_, targets_[t], h);
-      offer_to_target(t, at_corner + length(qx - g.apex_x, qy - g.apex_y),
-                      Arrival{corner, h, std::nan(""), g.apex_x, g.apex_y});
-    }
-  }
+  targets_.evaluate_from_corners(
+      mesh_, f, [&](std::uint32_t v) { return distance_now(v); }, cutoff_, targets_changed_);
 }
 
 // The cut-off: max_distance, lowered to the farthest target's distance once every target has one. A window
-// that cannot come closer than that can improve no target. A target at a vertex has the smallest distance
-// over the vertex's copies: at most each copy's, and final once the wavefront has passed it, whatever the
-// copies beyond.
+// that cannot come closer than that can improve no target.
 void VtpEngine::update_cutoff() {
   if (!targets_changed_) return;
   targets_changed_ = false;
-  double farthest = 0;
-  for (std::uint32_t t = 0; t < targets_.size(); ++t) {
-    const std::uint32_t vertex = targets_[t].vertex;
-    const double distance =
-        vertex != kNone ? distance_[mesh_.nearest_copy(mesh_.surface_to_input[vertex], distance_)] : target_distance_[t];
-    farthest = std::max(farthest, distance);
-  }
-  cutoff_ = std::min(options_.max_distance, targets_.empty() ? HUGE_VAL : farthest);
-}
-
-// ---------------------------------------------------------------------------------------------------
-// Nearest sources.
-
-std::uint32_t VtpEngine::label_of(std::uint32_t pseudo_source, const std::vector<std::uint32_t>& vertex_labels) const {
-  if (pseudo_source == kNone) return kNoSource;
-  if (pseudo_source >= mesh_.vertex_count) return sources_[pseudo_source - mesh_.vertex_count].label;
-  return vertex_labels[pseudo_source];
-}
-
-std::uint32_t VtpEngine::label_of(std::uint32_t pseudo_source) const {
-  for (std::uint32_t u = pseudo_source, steps = 0; u != kNone && steps <= mesh_.vertex_count; ++steps) {
-    if (u >= mesh_.vertex_count) return sources_[u - mesh_.vertex_count].label;
-    if (source_label_[u] != kNone) return source_label_[u];
-    u = arrival_[u].from;
-  }
-  return kNoSource;
-}
-
-// Each vertex takes the label of the pseudo-source its last straight piece starts from. Pseudo-sources are
-// reached with strictly smaller distances, so resolving vertices in order of distance needs one step each.
-std::vector<std::uint32_t> VtpEngine::vertex_labels() const {
-  std::vector<std::uint32_t> order;
-  for (std::uint32_t v = 0; v < mesh_.vertex_count; ++v)
-    if (distance_[v] <= cutoff_) order.push_back(v);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return distance_[a] < distance_[b] || (distance_[a] == distance_[b] && a < b);
-  });
-  std::vector<std::uint32_t> label(mesh_.vertex_count, kNoSource);
-  for (std::uint32_t v : order)
-    label[v] = source_label_[v] != kNone ? source_label_[v] : label_of(arrival_[v].from, label);
-  // A pseudo-source at exactly the same distance (across a zero-length edge) may come later in that order.
-  for (std::uint32_t v : order)
-    for (std::uint32_t u = v, steps = 0; label[v] == kNoSource && steps <= mesh_.vertex_count; ++steps) {
-      u = arrival_[u].from;
-      if (u == kNone) break;
-      label[v] = label_of(u, label);
-      if (u >= mesh_.vertex_count) break;
-    }
-  return label;
+  cutoff_ = std::min(options_.max_distance, targets_.points().empty() ? HUGE_VAL : targets_.farthest(mesh_, distance_));
 }
 
 }  // namespace exactgeo::detail

@@ -25,10 +25,14 @@
 #include <span>
 #include <vector>
 
+#include "arrival.hpp"
 #include "exactgeo/geodesic.hpp"
+#include "goal.hpp"
+#include "list_handover.hpp"
 #include "propagation.hpp"
 #include "surface_mesh.hpp"
 #include "surface_point.hpp"
+#include "targets.hpp"
 #include "wavefront_queue.hpp"
 #include "windows.hpp"
 #include "worker_pool.hpp"
@@ -43,17 +47,6 @@ class FaceWindows;    // face_windows.hpp
 struct SourceSite {
   LocatedPoint point;
   std::uint32_t label;
-};
-
-// How the last straight piece of a shortest path reaches a point: from pseudo-source `from` (a surface
-// vertex, or vertex_count + i for point source i), which lies at (px, py) in the frame of `halfedge`, a
-// halfedge of the face the piece ends in. The piece crosses that halfedge at x = crossing, or, if crossing
-// is NaN, stays inside the face (the pseudo-source is one of its corners or a source inside it). A bend at
-// the crossing is allowed only where the window that carried the path ends. halfedge is kNone at a source.
-struct Arrival {
-  std::uint32_t from = kNone;
-  std::uint32_t halfedge = kNone;
-  double crossing = 0, px = 0, py = 0;
 };
 
 // Throws Error(invalid_argument) for options no run can use: an algorithm value outside the enum, a
@@ -79,10 +72,13 @@ class VtpEngine {
   double cutoff() const { return cutoff_; }
   std::span<const double> distances() const { return distance_; }  // per surface vertex
   std::span<const Arrival> arrivals() const { return arrival_; }   // per surface vertex
-  const std::vector<double>& target_distances() const { return target_distance_; }
-  const std::vector<Arrival>& target_arrivals() const { return target_arrival_; }
+  const std::vector<double>& target_distances() const { return targets_.distances(); }
+  const std::vector<Arrival>& target_arrivals() const { return targets_.arrivals(); }
   const std::vector<SourceSite>& sources() const { return sources_; }
-  const std::vector<LocatedPoint>& targets() const { return targets_; }
+  // Per surface vertex, the label of the source there, kNone elsewhere (nearest_source.hpp reads them).
+  std::span<const std::uint32_t> source_labels() const { return source_label_; }
+  const SurfaceMesh& mesh() const { return mesh_; }
+  const std::vector<LocatedPoint>& targets() const { return targets_.points(); }
   const GeodesicStats& stats() const { return stats_; }
   // The windows the last run kept for queries at any point (GeodesicOptions::keep_windows); null if it kept
   // none, or did not finish.
@@ -95,14 +91,6 @@ class VtpEngine {
     pool_->run(threads_,
                [&](std::size_t part, unsigned) { work(count * part / threads_, count * (part + 1) / threads_); });
   }
-
-  // The source each surface vertex's path starts from (an index into the user's sources), kNoSource where
-  // the distance is +inf; and the same for a pseudo-source id as used in Arrival::from.
-  std::vector<std::uint32_t> vertex_labels() const;
-  std::uint32_t label_of(std::uint32_t pseudo_source, const std::vector<std::uint32_t>& vertex_labels) const;
-  // The same for one pseudo-source, by following its chain of arrivals back to a source (vertex_labels'
-  // rule, without labelling every vertex).
-  std::uint32_t label_of(std::uint32_t pseudo_source) const;
 
  private:
   enum class VertexState : std::uint8_t { unseen, queued, inside };
@@ -124,15 +112,12 @@ class VtpEngine {
   void lower(std::uint32_t v, double d, const Arrival& arrival, bool& targets_changed, Queue&& queue,
              EmitAgain&& emit_again);
   void push_vertex(std::uint32_t v, double d);
-  FaceFrame face_frame(std::uint32_t h) const;
   void queue_face(std::uint32_t g, std::span<const Window> arriving);
   void schedule(std::uint32_t h);
   bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
   // Whether distance d of v, inside the traversed area, is enough below the one it emitted at to emit again.
   bool lowered_since_emission(std::uint32_t v, double d) const { return d < emitted_at_[v] - tolerances_.reemit; }
   void emit(std::uint32_t v);
-  template <class Offer, class Place>
-  void for_each_emission_part(std::uint32_t v, double d, const Arrival& arrival, Offer&& offer, Place&& place) const;
   void emit_lowered_pseudo_source();
   void drain();
   void cross(std::uint32_t h);
@@ -152,34 +137,19 @@ class VtpEngine {
   void deliver(std::uint32_t side, std::vector<Window>& windows, std::uint32_t origin, bool prime);
   void keep_entering(std::uint32_t h, std::span<const Window> list, unsigned thread);
 
-  // How windows crossing an edge join the list on its other side, halfedge `edge` (kNone: a boundary edge,
-  // where they leave the surface).
-  enum class Joining : std::uint8_t { prime_merge, inside, wavefront_front, wavefront_back, wavefront_ordered };
-  struct Handover {
-    std::uint32_t edge;
-    Joining joining;
-    std::uint32_t count;  // windows left after the cut-off
-  };
   Handover hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime) const;
-  SideExit exit_through(std::uint32_t side, std::uint32_t origin) const;
-  static void join(std::span<Window> list, std::size_t added, Joining joining);
   void place_new_window(std::uint32_t g, const Window& w);
-  // The goal of a goal-directed run seen from a halfedge's frame: at (x, y), y >= 0, as far from every point
-  // of the edge's line as it is in space. Unset outside goal-directed runs.
-  struct GoalAcross {
-    double x = 0, y = 0;
-    bool set = false;
-  };
-  GoalAcross goal_across(std::uint32_t h) const;
-  double goal_gap(std::uint32_t v) const;  // straight-line distance from surface vertex v to the goal
-  // Whether a pseudo-source at distance d cannot lead to anything within the cut-off.
-  bool emission_beyond_cutoff(std::uint32_t v, double d) const;
-  bool beyond_cutoff(const Window& w, const GoalAcross& goal) const;
+  // The goal tests (goal.hpp) with this run's goal, cut-off and tolerance.
+  GoalAcross goal_across(std::uint32_t h) const { return goal_.across(mesh_, h); }
+  bool beyond_cutoff(const Window& w, const GoalAcross& goal) const {
+    return window_beyond_cutoff(w, goal, cutoff_, tolerances_.prune);
+  }
+  bool emission_beyond_cutoff(std::uint32_t v, double d) const {
+    return goal_.emission_beyond_cutoff(mesh_, v, d, cutoff_, tolerances_.prune);
+  }
 
-  void register_targets(std::span<const LocatedPoint> targets);
   void evaluate_targets(std::uint32_t h, std::span<const Window> list);
   void evaluate_targets_from_corners(std::uint32_t face);
-  void offer_to_target(std::uint32_t target, double d, const Arrival& arrival);
   void update_cutoff();
 
   const SurfaceMesh& mesh_;
@@ -230,18 +200,10 @@ class VtpEngine {
   double distance_now(std::uint32_t v) const;
   bool face_inside(std::uint32_t f) const;
 
-  // Targets: points inside faces or on edges are listed per face; points at vertices read the vertex.
-  std::vector<LocatedPoint> targets_;
-  std::vector<double> target_distance_;
-  std::vector<Arrival> target_arrival_;
-  std::vector<std::uint32_t> face_target_offsets_, face_targets_;  // per surface face, empty without targets
-  std::vector<std::uint8_t> is_target_vertex_;                      // per surface vertex, empty without
-  bool targets_changed_ = false;
-
-  // Goal-directed runs: asked for (set_goal_directed), and in force for the run under way, towards goal_ (the
-  // one target's position in the engine's frame).
-  bool goal_directed_ = false, has_goal_ = false;
-  std::array<double, 3> goal_{};
+  RunTargets targets_;
+  bool targets_changed_ = false;               // since update_cutoff: the farthest target may have changed
+  bool goal_directed_ = false;                 // asked for (set_goal_directed)
+  Goal goal_;                                  // in force for the run under way
   std::unique_ptr<FaceWindows> kept_windows_;  // with keep_windows: every list crossing a face, logged
 };
 
@@ -256,7 +218,7 @@ GeodesicPath trace_to_target(const Mesh& mesh, const VtpEngine& engine, std::siz
 template <class Queue, class EmitAgain>
 void VtpEngine::lower(std::uint32_t v, double d, const Arrival& arrival, bool& targets_changed, Queue&& queue,
                       EmitAgain&& emit_again) {
-  if (!is_target_vertex_.empty() && is_target_vertex_[v] && distance_[v] >= cutoff_) targets_changed = true;
+  if (targets_.at_vertex(v) && distance_[v] >= cutoff_) targets_changed = true;
   std::atomic_ref<double>(distance_[v]).store(d, std::memory_order_relaxed);
   arrival_[v] = arrival;
   if (state_[v] != VertexState::inside) {

@@ -52,132 +52,45 @@ void write_values_npy(std::FILE* file, const Values& values) {
   write_npy(file, "<f8", shape, little_endian_bytes(data));
 }
 
-// A colour for t in [0, 1]: a blue-green-yellow ramp like viridis, from a few of its stops.
-std::array<std::uint8_t, 3> ramp_colour(double t) {
-  static constexpr std::array<std::array<double, 3>, 5> kStops = {{
-      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};
-  const double x = std::clamp(t, 0.0, 1.0) * (kStops.size() - 1);
-  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), kStops.size() - 2);
-  const double f = x - static_cast<double>(i);
-  std::array<std::uint8_t, 3> colour{};
-  for (int k = 0; k < 3; ++k) colour[k] = std::uint8_t(std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k])));
-  return colour;
-}
-
-// A vertex's colour: the ramp from 0 to the largest finite distance, grey where the distance is inf.
-std::array<std::uint8_t, 3> vertex_colour(double distance, double largest) {
-  if (!std::isfinite(distance)) return {128, 128, 128};
-  return ramp_colour(largest > 0 ? distance / largest : 0);
-}
-
-double largest_finite(std::span<const double> distances) {
-  double largest = 0;
-  for (double d : distances)
-    if (std::isfinite(d)) largest = std::max(largest, d);
-  return largest;
-}
-
 // The mesh as ASCII PLY (.ascii.ply) with the distance as a per-vertex scalar (and the nearest source with
-// labels) and the colour ramp; every value as written by .txt, so the doubles round-trip.
+// labels) and the colour ramp (exactgeo::ramp_colours); every value as written by .txt, so the doubles
+// round-trip.
 void write_values_ascii_ply(std::FILE* file, const Values& values) {
   const exactgeo::Mesh& mesh = *values.mesh;
   const auto positions = mesh.positions();
   const auto triangles = mesh.triangles();
-  const double largest = largest_finite(values.distances);
-  std::fprintf(file, "ply\nformat ascii 1.0\ncomment written by exactgeo: geodesic distance per vertex\n");
+  const std::vector<std::uint8_t> colours = exactgeo::ramp_colours(values.distances);
+  std::fprintf(file, "ply\nformat ascii 1.0\ncomment written by exactgeo\n");
   std::fprintf(file, "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n",
                mesh.vertex_count());
   std::fprintf(file, "property double distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
   std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
   std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    const double d = values.distances[v];
-    const std::array<std::uint8_t, 3> colour = vertex_colour(d, largest);
     std::fprintf(file, "%.17g %.17g %.17g ", positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
-    print_distance(file, d);
+    print_distance(file, values.distances[v]);
     if (!values.labels.empty()) std::fprintf(file, " %lld", label_value(values.labels[v]));
-    std::fprintf(file, " %u %u %u\n", colour[0], colour[1], colour[2]);
+    std::fprintf(file, " %u %u %u\n", colours[3 * v], colours[3 * v + 1], colours[3 * v + 2]);
   }
   for (std::size_t f = 0; f < mesh.face_count(); ++f)
     std::fprintf(file, "3 %u %u %u\n", triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2]);
 }
 
-// Little-endian bytes of 32-bit values, as binary PLY stores them.
-void append_le32(std::vector<unsigned char>& bytes, std::uint32_t bits) {
-  for (int byte = 0; byte < 4; ++byte) bytes.push_back(static_cast<unsigned char>(bits >> (8 * byte)));
-}
-
-// The same as binary little-endian PLY (.ply): per vertex float x, y, z, double distance (exactly the
-// .npy's value, inf where unreachable), with labels int nearest_source, then uchar red, green, blue; per face
-// a uchar count and three int indices. The layout exactgeo.save_ply writes too; a third of the ASCII size.
+// The library's binary PLY (.ply), coloured by exactgeo::ramp_colours: per vertex float x, y, z, double
+// distance (exactly the .npy's value, inf where unreachable), with labels int nearest_source, then the colour; a
+// third of the ASCII size. The layout exactgeo.save_ply writes too.
 void write_values_ply(std::FILE* file, const Values& values) {
-  const exactgeo::Mesh& mesh = *values.mesh;
-  const auto positions = mesh.positions();
-  const auto triangles = mesh.triangles();
-  const double largest = largest_finite(values.distances);
-  std::fprintf(file, "ply\nformat binary_little_endian 1.0\n"
-                     "comment written by exactgeo: geodesic distance per vertex\n");
-  std::fprintf(file, "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n", mesh.vertex_count());
-  std::fprintf(file, "property double distance\n%s", values.labels.empty() ? "" : "property int nearest_source\n");
-  std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
-  std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", mesh.face_count());
-  std::vector<unsigned char> bytes;
-  bytes.reserve(mesh.vertex_count() * 27 + mesh.face_count() * 13);
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    const double d = values.distances[v];
-    for (int k = 0; k < 3; ++k)
-      append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(positions[3 * v + k])));
-    const auto bits = std::bit_cast<std::uint64_t>(d);
-    append_le32(bytes, static_cast<std::uint32_t>(bits));
-    append_le32(bytes, static_cast<std::uint32_t>(bits >> 32));
-    if (!values.labels.empty())
-      append_le32(bytes, std::bit_cast<std::uint32_t>(static_cast<std::int32_t>(label_value(values.labels[v]))));
-    const std::array<std::uint8_t, 3> colour = vertex_colour(d, largest);
-    bytes.insert(bytes.end(), colour.begin(), colour.end());
-  }
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    bytes.push_back(3);
-    for (int k = 0; k < 3; ++k) append_le32(bytes, triangles[3 * f + k]);
-  }
+  const std::vector<unsigned char> bytes = exactgeo::ply_file_bytes(
+      *values.mesh, {values.distances, "distance", values.labels}, exactgeo::ramp_colours(values.distances));
   std::fwrite(bytes.data(), 1, bytes.size(), file);
 }
 
-// Big-endian bytes of a 32- or 64-bit value, as legacy VTK files store binary data.
-template <class T>
-void append_big_endian(std::vector<unsigned char>& bytes, T value) {
-  using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
-  const auto bits = std::bit_cast<Bits>(value);
-  for (int byte = sizeof(T) - 1; byte >= 0; --byte) bytes.push_back(static_cast<unsigned char>(bits >> (8 * byte)));
-}
-
-// The mesh as a legacy VTK file (.vtk), binary, for ParaView, VisIt, pyvista and meshio: VTK's PLY reader
-// keeps only positions, normals, texture coordinates and colours, so a .ply's distance never reaches them.
-// POINTS as doubles (the input positions exactly), POLYGONS, and POINT_DATA with SCALARS distance double
-// (the .npy's values, inf where unreachable) and with labels SCALARS nearest_source int (-1 where none).
-// The layout exactgeo.save_vtk writes too, byte for byte.
+// The library's legacy VTK file (.vtk), binary, for ParaView, VisIt, pyvista and meshio: VTK's PLY reader keeps
+// only positions, normals, texture coordinates and colours, so a .ply's distance never reaches them. The file
+// exactgeo.save_vtk writes, byte for byte.
 void write_values_vtk(std::FILE* file, const Values& values) {
-  const exactgeo::Mesh& mesh = *values.mesh;
-  const auto positions = mesh.positions();
-  const auto triangles = mesh.triangles();
-  std::vector<unsigned char> bytes;
-  const auto text = [&](const std::string& line) { bytes.insert(bytes.end(), line.begin(), line.end()); };
-  text("# vtk DataFile Version 3.0\nwritten by exactgeo\nBINARY\nDATASET POLYDATA\n");
-  text("POINTS " + std::to_string(mesh.vertex_count()) + " double\n");
-  for (const double coordinate : positions) append_big_endian(bytes, coordinate);
-  text("\nPOLYGONS " + std::to_string(mesh.face_count()) + " " + std::to_string(4 * mesh.face_count()) + "\n");
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    append_big_endian(bytes, std::int32_t{3});
-    for (int k = 0; k < 3; ++k) append_big_endian(bytes, triangles[3 * f + k]);
-  }
-  text("\nPOINT_DATA " + std::to_string(mesh.vertex_count()) + "\nSCALARS distance double 1\nLOOKUP_TABLE default\n");
-  for (const double distance : values.distances) append_big_endian(bytes, distance);
-  text("\n");
-  if (!values.labels.empty()) {
-    text("SCALARS nearest_source int 1\nLOOKUP_TABLE default\n");
-    for (const std::uint32_t label : values.labels)
-      append_big_endian(bytes, static_cast<std::int32_t>(label_value(label)));
-    text("\n");
-  }
+  const std::vector<unsigned char> bytes =
+      exactgeo::vtk_file_bytes(*values.mesh, {values.distances, "distance", values.labels});
   std::fwrite(bytes.data(), 1, bytes.size(), file);
 }
 

@@ -9,4 +9,5 @@
 #include "exactgeo/pairs.hpp"
 #include "exactgeo/shapes.hpp"
 #include "exactgeo/surface_point.hpp"
+#include "exactgeo/value_files.hpp"
 #include "exactgeo/version.hpp"

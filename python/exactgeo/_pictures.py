@@ -10,13 +10,13 @@ from typing import Any, Callable, Union
 
 import numpy as np
 
-from . import _inputs
+from . import _core, _inputs
 from ._isolines import _per_vertex, isolines as _isolines
 from ._mesh import Mesh, checked_mesh
 
 Colormap = Union[str, Callable[[np.ndarray], np.ndarray]]
 
-# The built-in ramp when matplotlib is absent, the same as the command line's .ply output (cli/formats/outputs.cpp):
+# The built-in ramp when matplotlib is absent, the same as the command line's .ply (exactgeo::ramp_colours):
 # five colours of viridis at 0, 1/4, 1/2, 3/4 and 1, interpolated linearly in RGB in between.
 RAMP = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=np.float64)
 GREY = np.array([128, 128, 128], dtype=np.uint8)  # inf and NaN, as in the command line's .ply
@@ -71,12 +71,6 @@ def vertex_colours(values: np.ndarray, cmap: Colormap, vmin: float | None, vmax:
     return colours
 
 
-def _check_value_name(value_name: object, holder: str) -> None:
-    """A file's name for the values must be a plain name, as `holder` in the file's header needs."""
-    if not _inputs.text(value_name, "value_name").isidentifier():
-        raise ValueError(f"value_name must be a plain name for {holder}, not {value_name!r}")
-
-
 def save_ply(
     path: str | os.PathLike[str],
     mesh: Mesh,
@@ -101,30 +95,11 @@ def save_ply(
     file_name = _inputs.path(path)
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
-    _check_value_name(value_name, "a PLY property")
+    name = _inputs.text(value_name, "value_name")
     colours = vertex_colours(field, cmap, _inputs.optional_real(vmin, "vmin"), _inputs.optional_real(vmax, "vmax"))
-    vertex = np.empty(
-        surface.vertex_count,
-        dtype=[(c, "<f4") for c in "xyz"] + [("value", "<f8")] + [(c, "u1") for c in ("red", "green", "blue")],
-    )
-    vertex["x"], vertex["y"], vertex["z"] = surface.vertices.T
-    vertex["value"] = field
-    vertex["red"], vertex["green"], vertex["blue"] = colours.T
-    face = np.empty(surface.face_count, dtype=[("count", "u1"), ("indices", "<i4", (3,))])
-    face["count"] = 3
-    face["indices"] = surface.faces
-    header = (
-        "ply\nformat binary_little_endian 1.0\ncomment written by exactgeo\n"
-        f"element vertex {surface.vertex_count}\n"
-        "property float x\nproperty float y\nproperty float z\n"
-        f"property double {value_name}\n"
-        "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-        f"element face {surface.face_count}\nproperty list uchar int vertex_indices\nend_header\n"
-    )
+    data = _core.ply_file_bytes(surface._core, field, name, np.ascontiguousarray(colours))  # the command's writer
     with open(file_name, "wb") as file:
-        file.write(header.encode("ascii"))
-        file.write(vertex.tobytes())
-        file.write(face.tobytes())
+        file.write(data)
 
 
 def save_vtk(
@@ -144,22 +119,9 @@ def save_vtk(
     file_name = _inputs.path(path)
     surface = checked_mesh(mesh)
     field = _per_vertex(values, surface)
-    _check_value_name(value_name, "a VTK array")
-    polygons = np.empty((surface.face_count, 4), dtype=">i4")
-    polygons[:, 0] = 3
-    polygons[:, 1:] = surface.faces
-    blocks = [
-        "# vtk DataFile Version 3.0\nwritten by exactgeo\nBINARY\nDATASET POLYDATA\n"
-        f"POINTS {surface.vertex_count} double\n".encode("ascii"),
-        surface.vertices.astype(">f8").tobytes(),
-        f"\nPOLYGONS {surface.face_count} {4 * surface.face_count}\n".encode("ascii"),
-        polygons.tobytes(),
-        f"\nPOINT_DATA {surface.vertex_count}\nSCALARS {value_name} double 1\nLOOKUP_TABLE default\n".encode("ascii"),
-        field.astype(">f8").tobytes(),
-        b"\n",
-    ]
+    data = _core.vtk_file_bytes(surface._core, field, _inputs.text(value_name, "value_name"))  # the command's writer
     with open(file_name, "wb") as file:
-        file.writelines(blocks)
+        file.write(data)
 
 
 def plot(

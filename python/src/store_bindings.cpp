@@ -19,24 +19,19 @@
 #include <vector>
 
 #include "exactgeo/error.hpp"
+#include "marshalling.hpp"
 #include "matrix_store.hpp"
+#include "registration.hpp"
 
-namespace nb = nanobind;
 using namespace nb::literals;
+
+namespace exactgeo::python {
 
 namespace {
 
-using PointArray = nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
-using TriangleArray = nb::ndarray<const std::uint32_t, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
-using IndexArray = nb::ndarray<const std::uint32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using PointerArray = nb::ndarray<const std::int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 // Values of the store's dtype (float32 or float64, little-endian), taken as the bytes they are.
 using ValueArray = nb::ndarray<nb::c_contig, nb::device::cpu>;
-
-template <class T, class Array>
-std::span<const T> span_of(const Array& array) {
-  return std::span(static_cast<const T*>(array.data()), array.size());
-}
 
 std::span<const unsigned char> value_bytes(const ValueArray& values, const char* name) {
   if (values.dtype().code != static_cast<std::uint8_t>(nb::dlpack::dtype_code::Float) ||
@@ -46,7 +41,7 @@ std::span<const unsigned char> value_bytes(const ValueArray& values, const char*
 }
 
 exactgeo::store::MeshArrays mesh_arrays(const PointArray& vertices, const TriangleArray& faces, bool weld) {
-  return {span_of<double>(vertices), span_of<std::uint32_t>(faces), weld};
+  return {span_of(vertices), span_of(faces), weld};
 }
 
 std::vector<std::pair<std::size_t, std::string>> corrupt_pairs(
@@ -150,7 +145,7 @@ void register_store(nb::module_& m) {
         const char* dtype = data.itemsize() == 4 ? "float32" : "float64";
         nb::gil_scoped_release released;
         store::write_sparse_block(path, {block, first_row, end_row, max_distance, seconds}, dtype, bytes,
-                                  span_of<std::uint32_t>(indices), span_of<std::int64_t>(indptr));
+                                  span_of(indices), span_of(indptr));
       },
       "path"_a, "block"_a, "first_row"_a, "end_row"_a, "max_distance"_a, "data"_a.noconvert(), "indices"_a.noconvert(),
       "indptr"_a.noconvert(), "seconds"_a,
@@ -201,3 +196,5 @@ void register_store(nb::module_& m) {
       "path"_a, "block"_a,
       "Sparse block `block`'s pieces data, indices and indptr, as the little-endian bytes written.");
 }
+
+}  // namespace exactgeo::python

@@ -1,0 +1,130 @@
+// The targets of a run: points whose distances are evaluated as the window lists cross their faces (paper
+// Section 5.2 evaluates vertices only), with the arrivals their paths are traced back from. Points inside
+// faces or on edges are listed per face; a point at a vertex reads that vertex. Inline: the engine evaluates
+// every list crossing a face that holds targets.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "arrival.hpp"
+#include "assert.hpp"
+#include "propagation.hpp"
+#include "surface_mesh.hpp"
+#include "surface_point.hpp"
+#include "windows.hpp"
+
+namespace exactgeo::detail {
+
+class RunTargets {
+ public:
+  // Forgets the last run's targets and lists these, none reached yet.
+  void assign(const SurfaceMesh& mesh, std::span<const LocatedPoint> targets) {
+    points_.assign(targets.begin(), targets.end());
+    distance_.assign(targets.size(), HUGE_VAL);
+    arrival_.assign(targets.size(), Arrival{});
+    face_offsets_.clear();
+    face_targets_.clear();
+    is_vertex_.clear();
+    if (targets.empty()) return;
+    is_vertex_.assign(mesh.vertex_count, 0);
+    face_offsets_.assign(mesh.face_count() + 1, 0);
+    for (const LocatedPoint& t : points_) {
+      if (t.vertex != kNone) {
+        // A target at a vertex is that input vertex, carried by whichever of its copies is nearest: lowering
+        // any copy may lower it.
+        for (std::uint32_t copy : mesh.copies_with(t.vertex)) is_vertex_[copy] = 1;
+      } else {
+        ++face_offsets_[t.face + 1];
+      }
+    }
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) face_offsets_[f + 1] += face_offsets_[f];
+    face_targets_.resize(face_offsets_.back());
+    std::vector<std::uint32_t> fill(face_offsets_.begin(), face_offsets_.end() - 1);
+    for (std::uint32_t t = 0; t < points_.size(); ++t)
+      if (points_[t].vertex == kNone) face_targets_[fill[points_[t].face]++] = t;
+    // Each face's targets fill exactly its slots [offsets[f], offsets[f + 1]).
+    EXACTGEO_ASSERT(std::equal(fill.begin(), fill.end(), face_offsets_.begin() + 1));
+  }
+
+  const std::vector<LocatedPoint>& points() const { return points_; }
+  const std::vector<double>& distances() const { return distance_; }  // in the engine's frame
+  const std::vector<Arrival>& arrivals() const { return arrival_; }
+  // Whether some target lies inside a face or on an edge; the targets in face f.
+  bool in_faces() const { return !face_offsets_.empty(); }
+  std::span<const std::uint32_t> in_face(std::uint32_t f) const {
+    return {face_targets_.data() + face_offsets_[f], face_targets_.data() + face_offsets_[f + 1]};
+  }
+  // Whether surface vertex v carries a target (is a copy of a target's input vertex).
+  bool at_vertex(std::uint32_t v) const { return !is_vertex_.empty() && is_vertex_[v]; }
+
+  // A path of length d reaches target t as `arrival` says. Sets `farthest_changed` if the target's distance
+  // was not below the cut-off: it may have been the farthest.
+  void offer(std::uint32_t t, double d, const Arrival& arrival, double cutoff, bool& farthest_changed) {
+    double& best = distance_[t];
+    if (!(d < best)) return;
+    if (best >= cutoff) farthest_changed = true;
+    best = d;
+    arrival_[t] = arrival;
+  }
+
+  // The straight rays of a list entering face(h) reach the targets inside the face: a target q is reached
+  // through window w if the ray from w's pseudo-source to q crosses the window. The list is taken before
+  // Rule 1 and the vertex checks, which only prune what leaves the face.
+  void evaluate_list(const SurfaceMesh& mesh, std::uint32_t h, std::span<const Window> list, double cutoff,
+                     bool& farthest_changed) {
+    for (const std::uint32_t t : in_face(face_of(h))) {
+      const auto [qx, qy] = position_in_frame(mesh, points_[t], h);
+      for (const Window& w : list) {
+        double x = 0;
+        const double d = distance_through_window(w, qx, qy, x);
+        if (d < HUGE_VAL) offer(t, d, Arrival{w.pseudo_source, h, x, w.px, w.py}, cutoff, farthest_changed);
+      }
+    }
+  }
+
+  // Paths that reach a target in face f straight from one of its corners, at the distances distance_at(v)
+  // gives.
+  template <class DistanceAt>
+  void evaluate_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, double cutoff,
+                             bool& farthest_changed) {
+    for (const std::uint32_t t : in_face(f)) {
+      for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+        const std::uint32_t corner = mesh.apex(h);
+        const double at_corner = distance_at(corner);
+        if (at_corner == HUGE_VAL) continue;
+        const HalfedgeGeometry& g = mesh.halfedges[h];
+        const auto [qx, qy] = position_in_frame(mesh, points_[t], h);
+        offer(t, at_corner + length(qx - g.apex_x, qy - g.apex_y), Arrival{corner, h, std::nan(""), g.apex_x, g.apex_y},
+              cutoff, farthest_changed);
+      }
+    }
+  }
+
+  // The largest distance of a target (0 without targets), given the surface vertices' distances. A target at
+  // a vertex has the smallest distance over the vertex's copies: at most each copy's, and final once the
+  // wavefront has passed it, whatever the copies beyond.
+  double farthest(const SurfaceMesh& mesh, std::span<const double> vertex_distance) const {
+    double farthest = 0;
+    for (std::uint32_t t = 0; t < points_.size(); ++t) {
+      const std::uint32_t vertex = points_[t].vertex;
+      const double distance = vertex != kNone
+                                  ? vertex_distance[mesh.nearest_copy(mesh.surface_to_input[vertex], vertex_distance)]
+                                  : distance_[t];
+      farthest = std::max(farthest, distance);
+    }
+    return farthest;
+  }
+
+ private:
+  std::vector<LocatedPoint> points_;
+  std::vector<double> distance_;
+  std::vector<Arrival> arrival_;
+  std::vector<std::uint32_t> face_offsets_, face_targets_;  // per surface face, empty without targets
+  std::vector<std::uint8_t> is_vertex_;                     // per surface vertex, empty without targets
+};
+
+}  // namespace exactgeo::detail
