@@ -89,7 +89,8 @@ const char* read_plain_decimal(const char* at, const char* const end, double& va
   std::uint64_t digits = 0;
   const auto read_digits = [&] {
     const char* const first = at;
-    for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10; ++at) digits = digits * 10 + digit;
+    for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10; ++at)
+      digits = digits * 10 + digit;
     return at - first;
   };
   std::ptrdiff_t digit_count = read_digits(), after_point = 0;

@@ -106,8 +106,18 @@ void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
     s.fan_closed[v] = 1;
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t c = s.vertex_corners[i];
-      if (s.twin[c] == kNone) { start = c; start_forward = true; s.fan_closed[v] = 0; break; }
-      if (s.twin[prev_halfedge(c)] == kNone) { start = c; start_forward = false; s.fan_closed[v] = 0; break; }
+      if (s.twin[c] == kNone) {
+        start = c;
+        start_forward = true;
+        s.fan_closed[v] = 0;
+        break;
+      }
+      if (s.twin[prev_halfedge(c)] == kNone) {
+        start = c;
+        start_forward = false;
+        s.fan_closed[v] = 0;
+        break;
+      }
     }
     // Each corner has two edges at v and each edge one twin, so the walk meets no corner twice; it returns
     // how many it met.
