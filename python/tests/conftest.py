@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import threading
 import time
@@ -23,6 +24,12 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 BUILD_DIR = Path(os.environ.get("EXACTGEO_BUILD_DIR", REPOSITORY / "build")).resolve()  # the tests change folders
 CLI = BUILD_DIR / "cli" / "exactgeo"
 MESH_DIR = Path(os.environ.get("EXACTGEO_MESH_DIR", REPOSITORY.parent / "shared" / "meshes"))
+
+# A suite started in the background by a shell without job control (`make test &`, nohup) inherits SIGINT
+# ignored, and Python then never raises KeyboardInterrupt, here or in the processes the tests start: the Ctrl-C
+# tests need SIGINT as a terminal delivers it.
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def bumpy_sheet(n: int, seed: int = 7) -> tuple[np.ndarray, np.ndarray]:
