@@ -197,13 +197,7 @@ MeshSoup cell_domain_mesh(const CellDomain& domain, std::uint64_t seed) {
       if (!domain.has_cell(i, j)) continue;
       const std::uint32_t a = index[j * (n + 1) + i], b = index[j * (n + 1) + i + 1],
                           c = index[(j + 1) * (n + 1) + i + 1], d = index[(j + 1) * (n + 1) + i];
-      if ((i + j) % 2 == 0) {
-        add_triangle(soup, a, b, c);
-        add_triangle(soup, a, c, d);
-      } else {
-        add_triangle(soup, a, b, d);
-        add_triangle(soup, b, c, d);
-      }
+      add_quad(soup, a, b, c, d, (i + j) % 2 != 0);
     }
   return soup;
 }

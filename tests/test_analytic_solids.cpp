@@ -197,13 +197,7 @@ MeshSoup cube_surface_mesh(int n) {
           }
           const std::uint32_t p = vertex(corner[0]), q = vertex(corner[1]), r = vertex(corner[2]),
                               s = vertex(corner[3]);
-          if ((i + j) % 2 == 0) {
-            add_triangle(soup, p, q, r);
-            add_triangle(soup, p, r, s);
-          } else {
-            add_triangle(soup, p, q, s);
-            add_triangle(soup, q, r, s);
-          }
+          add_quad(soup, p, q, r, s, (i + j) % 2 != 0);
         }
     }
   return soup;

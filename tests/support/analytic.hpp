@@ -54,6 +54,19 @@ inline std::vector<double> expected_distances(const MeshSoup& soup, std::uint32_
 
 inline double euclidean(const Vec3& a, const Vec3& b) { return distance(a, b); }
 
+// The quad a, b, c, d (in order around it) as two triangles, split along a-c, or along b-d with
+// `other_diagonal`: alternating the diagonal from cell to cell keeps a grid's triangulation symmetric.
+inline void add_quad(MeshSoup& soup, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d,
+                     bool other_diagonal) {
+  if (!other_diagonal) {
+    add_triangle(soup, a, b, c);
+    add_triangle(soup, a, c, d);
+  } else {
+    add_triangle(soup, a, b, d);
+    add_triangle(soup, b, c, d);
+  }
+}
+
 // Instantiated in test_analytic_solids.cpp, for the tests of both files.
 class AnalyticDistance : public testing::TestWithParam<exactgeo::GeodesicOptions> {
  protected:
