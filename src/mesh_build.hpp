@@ -99,7 +99,9 @@ void choose_scale(const ParallelTeam& team, SurfaceMesh& s);
 void compute_geometry(const ParallelTeam& team, SurfaceMesh& s);
 // Orders each vertex's corners around it (SurfaceMesh::fan_angle_start).
 void walk_fans(const ParallelTeam& team, SurfaceMesh& s);
-// Connected pieces of the surface.
+// Connected pieces of the surface (faces joined across edges): how many, and which one each face is in
+// (labelled by one of its faces). The mesh keeps only the count; pairs ask for the labels when there are several.
 std::size_t count_components(const ParallelTeam& team, const SurfaceMesh& s);
+std::vector<std::uint32_t> face_components(const ParallelTeam& team, const SurfaceMesh& s);
 
 }  // namespace exactgeo::detail

@@ -433,12 +433,30 @@ void join_cut_edges_between_same_copies(SurfaceMesh& s) {
   }
 }
 
-std::size_t count_components(const ParallelTeam& team, const SurfaceMesh& s) {
+namespace {
+
+// The faces united across every edge: each set is then one connected piece.
+ConcurrentUnionFind faces_joined_by_edges(const ParallelTeam& team, const SurfaceMesh& s) {
   ConcurrentUnionFind faces(s.face_count());
   team.for_each(s.twin.size(), kTopologyGrain, [&](std::size_t h) {
     if (s.twin[h] != kNone && s.twin[h] < h) faces.unite(face_of(static_cast<std::uint32_t>(h)), face_of(s.twin[h]));
   });
+  return faces;
+}
+
+}  // namespace
+
+std::size_t count_components(const ParallelTeam& team, const SurfaceMesh& s) {
+  const ConcurrentUnionFind faces = faces_joined_by_edges(team, s);
   return team.count_if(s.face_count(), kTopologyGrain, [&](std::size_t f) { return faces.is_root(static_cast<std::uint32_t>(f)); });
+}
+
+std::vector<std::uint32_t> face_components(const ParallelTeam& team, const SurfaceMesh& s) {
+  ConcurrentUnionFind faces = faces_joined_by_edges(team, s);
+  std::vector<std::uint32_t> component(s.face_count());
+  team.for_each(s.face_count(), kTopologyGrain,
+                [&](std::size_t f) { component[f] = faces.find(static_cast<std::uint32_t>(f)); });
+  return component;
 }
 
 }  // namespace exactgeo::detail

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "exactgeo/error.hpp"
+#include "mesh_build.hpp"
 #include "stop.hpp"
 #include "surface_point.hpp"
 #include "vtp_engine.hpp"
@@ -31,6 +32,27 @@ void check_same_length(std::size_t a, std::size_t b) {
   if (a != b)
     throw Error(ErrorCode::invalid_argument, "a and b must have the same length (a has " + std::to_string(a) +
                                                  " points, b " + std::to_string(b) + ")");
+}
+
+// The connected pieces (face_components) a point lies in: its face's, or at a vertex those of every copy of
+// it, which a split vertex may have in several pieces.
+std::vector<std::uint32_t> pieces_of(const detail::SurfaceMesh& surface, std::span<const std::uint32_t> piece_of_face,
+                                     const detail::LocatedPoint& point) {
+  if (point.vertex == detail::kNone) return {piece_of_face[point.face]};
+  std::vector<std::uint32_t> pieces;
+  for (const std::uint32_t copy : surface.copies_with(point.vertex))
+    for (std::uint32_t i = surface.vertex_corner_offsets[copy]; i < surface.vertex_corner_offsets[copy + 1]; ++i)
+      pieces.push_back(piece_of_face[detail::face_of(surface.vertex_corners[i])]);
+  return pieces;
+}
+
+// Whether a path can join the two points at all. A search between pieces apart would otherwise cross the
+// whole of the first one before it finds the second out of reach.
+bool in_one_piece(const detail::SurfaceMesh& surface, std::span<const std::uint32_t> piece_of_face,
+                  const detail::LocatedPoint& a, const detail::LocatedPoint& b) {
+  const std::vector<std::uint32_t> of_a = pieces_of(surface, piece_of_face, a),
+                                   of_b = pieces_of(surface, piece_of_face, b);
+  return std::ranges::any_of(of_a, [&](std::uint32_t piece) { return std::ranges::find(of_b, piece) != of_b.end(); });
 }
 
 // One pair's search on `engine`: from `from` (a point at a corner is that input vertex, a source at each of
@@ -87,8 +109,13 @@ PairResult pair_distances(const Mesh& mesh, std::span<const SurfacePoint> a, std
     engines.push_back(std::make_unique<detail::VtpEngine>(surface));
     engines.back()->set_goal_directed(true);
   }
+  // Labelled only where there is more than one piece: on one, every pair is in it.
+  const std::vector<std::uint32_t> piece_of_face = mesh.report().components > 1
+                                                       ? detail::face_components(detail::ParallelTeam{pool}, surface)
+                                                       : std::vector<std::uint32_t>{};
   pool.run(a.size(), [&](std::size_t i, unsigned thread) {
     detail::throw_if_stopped(options.geodesic.stop);
+    if (!piece_of_face.empty() && !in_one_piece(surface, piece_of_face, from[i], to[i])) return;  // stays +inf
     result.distances[i] = search_pair(mesh, *engines[thread], from[i], to[i], per_search,
                                       options.return_paths ? &result.paths[i] : nullptr);
   });
