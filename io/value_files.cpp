@@ -114,24 +114,27 @@ std::vector<unsigned char> ply_file_bytes(const Mesh& mesh, const VertexValues& 
   return bytes;
 }
 
-std::vector<std::uint8_t> ramp_colours(std::span<const double> values) {
+std::array<double, 3> ramp_colour(double t) {
   static constexpr std::array<std::array<double, 3>, 5> kStops = {
       {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};
+  if (std::isnan(t)) return {kNoValueColour[0], kNoValueColour[1], kNoValueColour[2]};
+  const double x = std::clamp(t, 0.0, 1.0) * (kStops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), kStops.size() - 2);
+  const double f = x - static_cast<double>(i);
+  std::array<double, 3> colour;
+  for (std::size_t k = 0; k < 3; ++k) colour[k] = kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k]);
+  return colour;
+}
+
+std::vector<std::uint8_t> ramp_colours(std::span<const double> values) {
   double largest = 0;
   for (const double value : values)
     if (std::isfinite(value)) largest = std::max(largest, value);
   std::vector<std::uint8_t> colours;
   colours.reserve(3 * values.size());
   for (const double value : values) {
-    if (!std::isfinite(value)) {
-      colours.insert(colours.end(), {128, 128, 128});
-      continue;
-    }
-    const double x = std::clamp(largest > 0 ? value / largest : 0.0, 0.0, 1.0) * (kStops.size() - 1);
-    const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(x), kStops.size() - 2);
-    const double f = x - static_cast<double>(i);
-    for (int k = 0; k < 3; ++k)
-      colours.push_back(static_cast<std::uint8_t>(std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k]))));
+    const double t = std::isfinite(value) ? (largest > 0 ? value / largest : 0.0) : std::nan("");
+    for (const double channel : ramp_colour(t)) colours.push_back(static_cast<std::uint8_t>(std::lround(channel)));
   }
   return colours;
 }

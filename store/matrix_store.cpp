@@ -134,7 +134,16 @@ std::string mesh_sha256(const MeshArrays& mesh) {
   return digest.hex_digest();
 }
 
+BlockShape StoreSettings::block_shape() const {
+  return {.rows = sources.size(),
+          .columns = columns,
+          .block_rows = block_rows,
+          .dtype = dtype,
+          .max_distance = max_distance ? Json(*max_distance) : Json()};
+}
+
 Json settings_json(const StoreSettings& settings) {
+  const BlockShape shape = settings.block_shape();
   return Json{
       {"format", std::string(kStoreFormat)},
       {"version", exactgeo::kVersion},
@@ -146,10 +155,10 @@ Json settings_json(const StoreSettings& settings) {
       {"targets", settings.targets ? Json(*settings.targets) : Json()},
       {"shape", {settings.sources.size(), settings.columns}},
       {"dtype", settings.dtype},
-      {"max_distance", settings.max_distance ? Json(*settings.max_distance) : Json()},
-      {"layout", settings.max_distance ? "sparse" : "dense"},
+      {"max_distance", shape.max_distance},
+      {"layout", shape.sparse() ? "sparse" : "dense"},
       {"block_rows", settings.block_rows},
-      {"blocks", settings.blocks()},
+      {"blocks", shape.blocks()},
       {"zarr_format", kZarrFormat},
   };
 }
@@ -268,7 +277,7 @@ OpenStore open_store(const fs::path& store, const OpenRequest& request) {
   }
   if (!explicit_block_rows)
     settings.block_rows =
-        default_block_rows(settings.sources.size(), settings.columns, settings.dtype == "float32" ? 4 : 8);
+        default_block_rows(settings.sources.size(), settings.columns, settings.block_shape().item_bytes());
   if (!stored) {
     create_store(path, settings, request.mesh);
     stored = read_stored(path);  // this one, or the one another writer made first

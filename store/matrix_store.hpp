@@ -57,28 +57,7 @@ struct MeshArrays {
 // float64 and the triangles as uint32, all little-endian (exactgeo.distributed.mesh_hash).
 std::string mesh_sha256(const MeshArrays& mesh);
 
-// What a store holds: the "exactgeo" attribute of its root group, field for field.
-struct StoreSettings {
-  std::string mesh_sha256;
-  std::size_t vertex_count = 0, face_count = 0;
-  bool weld = false;
-  std::vector<std::uint32_t> sources;
-  std::optional<std::vector<std::uint32_t>> targets;  // none: every vertex, in order
-  std::size_t columns = 0;
-  std::string dtype = "float32";       // "float32" or "float64"
-  std::optional<double> max_distance;  // set: the sparse layout
-  std::size_t block_rows = 0;
-  std::size_t blocks() const { return (sources.size() + block_rows - 1) / block_rows; }
-};
-nlohmann::ordered_json settings_json(const StoreSettings& settings);
-
-// Why `stored` (a store's "exactgeo" attribute) does not answer the request `wanted`, one phrase per difference
-// ("another mesh (the store's: ...; this one: ...)"); empty if it does. block_rows counts only if
-// `explicit_block_rows`.
-std::vector<std::string> store_differences(const nlohmann::ordered_json& stored, const nlohmann::ordered_json& wanted,
-                                           bool explicit_block_rows);
-
-// The shape of a store's blocks, from the settings it records.
+// The shape of a store's blocks, from the settings it records: block B is rows [first(B), end(B)).
 struct BlockShape {
   std::size_t rows = 0, columns = 0, block_rows = 1;
   std::string dtype;
@@ -90,6 +69,27 @@ struct BlockShape {
   std::size_t first(std::size_t block) const { return block * block_rows; }
   std::size_t end(std::size_t block) const { return std::min(rows, (block + 1) * block_rows); }
 };
+
+// What a store holds: the "exactgeo" attribute of its root group, field for field.
+struct StoreSettings {
+  std::string mesh_sha256;
+  std::size_t vertex_count = 0, face_count = 0;
+  bool weld = false;
+  std::vector<std::uint32_t> sources;
+  std::optional<std::vector<std::uint32_t>> targets;  // none: every vertex, in order
+  std::size_t columns = 0;
+  std::string dtype = "float32";       // "float32" or "float64"
+  std::optional<double> max_distance;  // set: the sparse layout
+  std::size_t block_rows = 0;
+  BlockShape block_shape() const;  // the one read_stored reads back from the store these settings make
+};
+nlohmann::ordered_json settings_json(const StoreSettings& settings);
+
+// Why `stored` (a store's "exactgeo" attribute) does not answer the request `wanted`, one phrase per difference
+// ("another mesh (the store's: ...; this one: ...)"); empty if it does. block_rows counts only if
+// `explicit_block_rows`.
+std::vector<std::string> store_differences(const nlohmann::ordered_json& stored, const nlohmann::ordered_json& wanted,
+                                           bool explicit_block_rows);
 
 // What a folder holds: an exactgeo store's settings (checked for their types and against each other, so that an
 // edited block count cannot hide blocks), its blocks' shape and its Zarr format (2: made by zarr-python 2, read

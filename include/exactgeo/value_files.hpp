@@ -3,6 +3,7 @@
 // `--out d.vtk` and `--out d.ply` and the Python package's save_vtk and save_ply write these bytes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -35,8 +36,16 @@ EXACTGEO_API std::vector<unsigned char> vtk_file_bytes(const Mesh& mesh, const V
 EXACTGEO_API std::vector<unsigned char> ply_file_bytes(const Mesh& mesh, const VertexValues& values,
                                                        std::span<const std::uint8_t> colours);
 
-// The command's colours (three per vertex): a ramp of five stops of viridis, interpolated linearly, from 0 to
-// the largest finite value; grey (128, 128, 128) for inf and NaN.
+// The colour of a vertex without a value (inf or NaN) in the command's pictures and the Python package's.
+inline constexpr std::array<std::uint8_t, 3> kNoValueColour = {128, 128, 128};
+
+// The colour ramp of the command's pictures and the Python package's built-in one: five stops of viridis at 0,
+// 1/4, 1/2, 3/4 and 1, interpolated linearly in RGB. The colour at t (clamped to [0, 1]) as red, green, blue in
+// [0, 255], unrounded; kNoValueColour for NaN.
+EXACTGEO_API std::array<double, 3> ramp_colour(double t);
+
+// The command's colours (three per vertex): ramp_colour from 0 to the largest finite value, rounded to the
+// nearest; kNoValueColour for inf and NaN.
 EXACTGEO_API std::vector<std::uint8_t> ramp_colours(std::span<const double> values);
 
 }  // namespace exactgeo

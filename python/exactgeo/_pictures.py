@@ -16,18 +16,15 @@ from ._mesh import Mesh, checked_mesh
 
 Colormap = Union[str, Callable[[np.ndarray], np.ndarray]]
 
-# The built-in ramp when matplotlib is absent, the same as the command line's .ply (exactgeo::ramp_colours):
-# five colours of viridis at 0, 1/4, 1/2, 3/4 and 1, interpolated linearly in RGB in between.
-RAMP = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=np.float64)
-GREY = np.array([128, 128, 128], dtype=np.uint8)  # inf and NaN, as in the command line's .ply
+# Inf and NaN, as in the command line's .ply (exactgeo::kNoValueColour).
+GREY = np.array(_core.no_value_colour, dtype=np.uint8)
 
 
 def ramp_rgb(t: np.ndarray) -> np.ndarray:
-    """The built-in ramp at t in [0, 1] (clamped), as (n, 3) floats in [0, 1]."""
-    x = np.clip(np.asarray(t, dtype=np.float64), 0.0, 1.0) * (len(RAMP) - 1)
-    i = np.minimum(x.astype(np.int64), len(RAMP) - 2)
-    f = (x - i)[:, None]
-    rgb: np.ndarray = (RAMP[i] + f * (RAMP[i + 1] - RAMP[i])) / 255.0
+    """The built-in ramp when matplotlib is absent, the command line's (exactgeo::ramp_colour): five colours of
+    viridis at 0, 1/4, 1/2, 3/4 and 1, interpolated linearly in RGB in between. At t in [0, 1] (clamped), as (n, 3)
+    floats in [0, 1]."""
+    rgb: np.ndarray = _core.ramp_colour(np.ascontiguousarray(t, dtype=np.float64)) / 255.0
     return rgb
 
 

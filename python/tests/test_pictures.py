@@ -212,6 +212,24 @@ def test_save_vtk_is_the_command_lines_vtk(cli, tmp_path):
     assert (tmp_path / "python.vtk").read_bytes() == (tmp_path / "cli.vtk").read_bytes()
 
 
+def test_the_built_in_ramp_colours_as_the_command_lines_ply(cli, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    vertices, faces = exactgeo.make_grid(9, 7, 2.0, 1.0)
+    vertices[:, 2] = np.sin(3 * vertices[:, 0]) * np.cos(2 * vertices[:, 1]) / 3
+    # A triangle apart from the grid: its vertices are unreachable, grey in both.
+    vertices = np.vstack([vertices, [[5.0, 5.0, 0.0], [6.0, 5.0, 0.0], [5.0, 6.0, 0.0]]])
+    faces = np.vstack([faces, [[len(vertices) - 3, len(vertices) - 2, len(vertices) - 1]]])
+    path = write_obj(tmp_path / "m.obj", vertices, faces)
+    run_cli("distance", path, "--source", "4", "--out", tmp_path / "cli.ply")
+    mesh = exactgeo.Mesh(vertices, faces)
+    exactgeo.save_ply(tmp_path / "python.ply", mesh, exactgeo.distance(mesh, 4))
+    rgb = [np.column_stack([v["red"], v["green"], v["blue"]]) for v in
+           (read_ply(tmp_path / name)[1] for name in ("cli.ply", "python.ply"))]
+    assert len(np.unique(rgb[0], axis=0)) > 20  # many colours of the ramp, not only its ends
+    assert rgb[0][-3:].tolist() == [GREY] * 3
+    np.testing.assert_array_equal(rgb[1], rgb[0])
+
+
 def test_vtk_tools_read_the_values_from_the_vtk_file(tmp_path, grid_with_inf):
     pyvista = pytest.importorskip("pyvista")
     mesh, d = grid_with_inf
