@@ -33,14 +33,6 @@ std::string_view without_plus(std::string_view token) {
   return token;
 }
 
-// Separators of tokens, as a table: tokenising is most of reading a large text file.
-constexpr auto kBlanks = [] {
-  std::array<bool, 256> blank{};
-  for (unsigned char c : {' ', '\t', '\r', '\v', '\f'}) blank[c] = true;
-  return blank;
-}();
-bool is_blank(char c) { return kBlanks[static_cast<unsigned char>(c)]; }
-
 }  // namespace
 
 void throw_file_error(const MeshFile& file, std::string_view reason) {
@@ -89,8 +81,7 @@ const char* read_plain_decimal(const char* at, const char* const end, double& va
   std::uint64_t digits = 0;
   const auto read_digits = [&] {
     const char* const first = at;
-    for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10; ++at)
-      digits = digits * 10 + digit;
+    at = read_digit_run(at, end, digits);
     return at - first;
   };
   std::ptrdiff_t digit_count = read_digits(), after_point = 0;
@@ -126,10 +117,8 @@ bool parse_plain_integer(std::string_view token, std::int64_t& value) {
   return true;
 }
 
-}  // namespace
-
-bool parse_double(std::string_view token, double& value) {
-  if (parse_plain_decimal(token, value)) return true;
+// Any other number (an exponent, more digits than one exact division allows, "inf"), by from_chars.
+bool parse_other_double(std::string_view token, double& value) {
   token = without_plus(token);
   const char* end = token.data() + token.size();
   const auto result = std::from_chars(token.data(), end, value);
@@ -138,6 +127,12 @@ bool parse_double(std::string_view token, double& value) {
   // to, +-inf or +-0 (a coordinate of inf is then named by the mesh's own check, not called malformed).
   if (result.ec == std::errc::result_out_of_range) value = std::strtod(std::string(token).c_str(), nullptr);
   return result.ec == std::errc() || result.ec == std::errc::result_out_of_range;
+}
+
+}  // namespace
+
+bool parse_double(std::string_view token, double& value) {
+  return parse_plain_decimal(token, value) || parse_other_double(token, value);
 }
 
 bool parse_integer(std::string_view token, std::int64_t& value) {
@@ -302,19 +297,28 @@ std::int64_t TextCursor::read_integer(std::string_view what) {
 }
 
 std::array<double, 3> TextCursor::read_position() {
-  // Three plain decimals, each ending at a blank or the line's end, read in one pass over the line, without
-  // cutting it into tokens first; any other line through the tokens below.
-  std::array<double, 3> plain;
+  // Three finite numbers, each ending at a blank or the line's end, read in one pass over the line without
+  // cutting it into tokens first: plain decimals by one exact division, any other number (printed with 17
+  // digits, whose mantissa passes 2^53, or with an exponent) by from_chars on its extent. Any other line, and
+  // every error, through the tokens below.
+  std::array<double, 3> direct;
   const char* at = line_.data();
   const char* const end = at + line_.size();
-  for (double& coordinate : plain) {
-    while (at != end && is_blank(*at)) ++at;
-    at = read_plain_decimal(at, end, coordinate);
-    if (at == nullptr || (at != end && !is_blank(*at))) break;
+  bool all_read = true;
+  for (double& coordinate : direct) {
+    at = skip_blanks(at, end);
+    const char* number_end = read_plain_decimal(at, end, coordinate);
+    if (number_end == nullptr || (number_end != end && !is_blank(*number_end))) {
+      number_end = token_end(at, end);
+      const std::string_view token(at, static_cast<std::size_t>(number_end - at));
+      all_read = !token.empty() && parse_other_double(token, coordinate) && std::isfinite(coordinate);
+      if (!all_read) break;
+    }
+    at = number_end;
   }
-  if (at != nullptr && (at == end || is_blank(*at))) {
+  if (all_read) {
     line_.remove_prefix(static_cast<std::size_t>(at - line_.data()));
-    return plain;
+    return direct;
   }
   const std::array<double, 3> position = {read_double("vertex x"), read_double("vertex y"), read_double("vertex z")};
   for (double coordinate : position) {

@@ -36,24 +36,23 @@ std::uint32_t corner_index(TextCursor& cursor, std::string_view token, std::size
 bool is_statement(std::string_view token, char letter) { return token.size() == 1 && token[0] == letter; }
 
 // The corners of the face line most files write, plain 1-based indices each perhaps followed by /vt or //vn,
-// separated by spaces or tabs ("f 12 7 9", "f 12/3/12 7/4/7 9/5/9"), read straight from the rest of the
-// line (`corners`) into `polygon` as zero-based indices, without cutting the line into tokens first. False
-// for anything else (a sign, a comment, index 0 or out of range, a stray character), which the tokens then
+// separated by blanks ("f 12 7 9", "f 12/3/12 7/4/7 9/5/9"), read straight from the rest of the line
+// (`corners`) into `polygon` as zero-based indices, without cutting the line into tokens first. False for
+// anything else (a sign, a comment, index 0 or out of range, a stray character), which the tokens then
 // read, or name as the error.
 bool read_plain_corners(std::string_view corners, std::size_t vertex_count, std::vector<std::uint32_t>& polygon) {
   polygon.clear();
   const char* at = corners.data();
   const char* const end = at + corners.size();
   for (;;) {
-    while (at != end && (*at == ' ' || *at == '\t')) ++at;
+    at = skip_blanks(at, end);
     if (at == end) return true;
     std::uint64_t index = 0;  // wraps past 19 digits, but more than 10 are refused
     const char* const first_digit = at;
-    for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10; ++at) index = index * 10 + digit;
+    at = read_digit_run(at, end, index);
     if (at == first_digit || at - first_digit > 10 || index == 0 || index > vertex_count) return false;
-    if (at != end && *at == '/')  // texture and normal indices: not read, as corner_index does not read them
-      while (at != end && *at != ' ' && *at != '\t') ++at;
-    if (at != end && *at != ' ' && *at != '\t') return false;
+    if (at != end && *at == '/') at = token_end(at, end);  // texture and normal indices: not read, as in corner_index
+    if (at != end && !is_blank(*at)) return false;
     polygon.push_back(static_cast<std::uint32_t>(index - 1));
   }
 }

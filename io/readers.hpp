@@ -39,6 +39,34 @@ std::string quoted(std::string_view token);
 bool parse_double(std::string_view token, double& value);
 bool parse_integer(std::string_view token, std::int64_t& value);
 
+// The scanning rules every text reader shares: blanks separate tokens (a table: tokenising is most of
+// reading a large text file), and numbers are runs of decimal digits.
+inline constexpr auto kBlanks = [] {
+  std::array<bool, 256> blank{};
+  for (unsigned char c : {' ', '\t', '\r', '\v', '\f'}) blank[c] = true;
+  return blank;
+}();
+inline bool is_blank(char c) { return kBlanks[static_cast<unsigned char>(c)]; }
+
+// The first character at or after `at` that is not a blank, or `end`.
+inline const char* skip_blanks(const char* at, const char* const end) {
+  while (at != end && is_blank(*at)) ++at;
+  return at;
+}
+
+// Where the token starting at `at` ends: the first blank after it, or `end`.
+inline const char* token_end(const char* at, const char* const end) {
+  while (at != end && !is_blank(*at)) ++at;
+  return at;
+}
+
+// Reads the run of decimal digits at the start of [at, end) onto `value` (value = value * 10 + digit for
+// each, wrapping modulo 2^64: callers refuse runs too long to fit) and returns where the run ends.
+inline const char* read_digit_run(const char* at, const char* const end, std::uint64_t& value) {
+  for (unsigned digit; at != end && (digit = static_cast<unsigned>(*at - '0')) < 10; ++at) value = value * 10 + digit;
+  return at;
+}
+
 // How many items to reserve for `count` items declared in a header when each takes at least
 // `min_bytes_per_item` of the `bytes_left` in the file: a lying header must not allocate gigabytes.
 std::size_t plausible_count(std::uint64_t count, std::size_t bytes_left, std::size_t min_bytes_per_item);

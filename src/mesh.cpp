@@ -106,11 +106,13 @@ std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions
     if (report.non_manifold_edges > 0) join_cut_edges_between_same_copies(*s);
   });
   state = {};  // the surface holds everything the later steps read
+  MeshArray<std::uint8_t> degenerate;
   step(&MeshBuildStats::geometry_seconds, 0.18, [&] {
     choose_scale(team, *s);
-    compute_geometry(team, *s);
+    degenerate = compute_face_geometry(team, *s);
   });
-  step(&MeshBuildStats::fan_walk_seconds, 0.06, [&] { walk_fans(team, *s); });
+  step(&MeshBuildStats::fan_walk_seconds, 0.06, [&] { walk_vertices(team, *s, degenerate); });
+  degenerate = {};
   step(&MeshBuildStats::components_seconds, 0.06, [&] { report.components = count_components(team, *s); });
   report.surface_vertices = s->vertex_count;
   stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();

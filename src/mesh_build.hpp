@@ -95,10 +95,12 @@ void join_cut_edges_between_same_copies(SurfaceMesh& s);
 
 // The power of two the engine scales positions by, and the length scale of the tolerances.
 void choose_scale(const ParallelTeam& team, SurfaceMesh& s);
-// Edge lengths, unfolding frames, corner angles, degenerate faces, angle sums and pseudo-sources.
-void compute_geometry(const ParallelTeam& team, SurfaceMesh& s);
-// Orders each vertex's corners around it (SurfaceMesh::fan_angle_start).
-void walk_fans(const ParallelTeam& team, SurfaceMesh& s);
+// Edge lengths, unfolding frames, corner angles and the mean edge length; counts the degenerate faces and
+// returns which faces are (1) for walk_vertices.
+MeshArray<std::uint8_t> compute_face_geometry(const ParallelTeam& team, SurfaceMesh& s);
+// Per vertex, in one pass over its corners (they are read once for both): angle sums, saddles and
+// pseudo-sources, then the order of its corners around it (SurfaceMesh::fan_angle_start).
+void walk_vertices(const ParallelTeam& team, SurfaceMesh& s, const MeshArray<std::uint8_t>& degenerate);
 // Connected pieces of the surface (faces joined across edges): how many, and which one each face is in
 // (labelled by one of its faces). The mesh keeps only the count; pairs ask for the labels when there are several.
 std::size_t count_components(const ParallelTeam& team, const SurfaceMesh& s);

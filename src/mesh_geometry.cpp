@@ -1,7 +1,7 @@
-// Geometry steps of the mesh build (mesh_build.hpp): the scale frame, edge lengths and unfolding frames,
-// corner angles and pseudo-sources, and the walk around each vertex's fan. Per face, then per vertex, on the
-// team; every sum runs in the order a single thread would take, so the geometry is the same bit for bit on
-// any thread count.
+// Geometry steps of the mesh build (mesh_build.hpp): the scale frame, then per face its edge lengths,
+// unfolding frames and corner angles, then per vertex, in one pass over its corners, its angle sum and
+// pseudo-source flag and the walk around its fan. On the team; every sum runs in the order a single thread
+// would take, so the geometry is the same bit for bit on any thread count.
 #include <cmath>
 #include <numbers>
 
@@ -32,53 +32,78 @@ void choose_scale(const ParallelTeam& team, SurfaceMesh& s) {
   s.length_scale = diagonal > 0 ? diagonal : 1.0;
 }
 
-void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
+MeshArray<std::uint8_t> compute_face_geometry(const ParallelTeam& team, SurfaceMesh& s) {
   const std::uint32_t face_count = s.face_count();
   s.halfedges.resize(3 * std::size_t{face_count});
   s.corner_angle.resize(3 * std::size_t{face_count});
   MeshArray<std::uint8_t> degenerate(face_count);
-  team.for_each(face_count, kGeometryGrain, [&](std::size_t f) {
-    const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
-                                        s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),
-                                        s.position(s.surface_to_input[s.corner_vertex[3 * f + 2]])};
-    double longest = 0;
-    for (int i = 0; i < 3; ++i) {
-      const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
-      const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
-      const double length = norm(ab);
-      longest = std::max(longest, length);
-      HalfedgeGeometry& g = s.halfedges[3 * f + i];
-      g.length = length;
-      if (length > 0) {
-        g.apex_x = dot(ac, ab) / length;
-        g.apex_y = norm(cross(ac, ab)) / length;
-      } else {  // A and B coincide: place C straight above them, which keeps the unfolding consistent
-        g.apex_x = 0;
-        g.apex_y = norm(ac);
-      }
-      s.corner_angle[3 * f + i] = std::atan2(g.apex_y, g.apex_x);
-    }
-    const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
-    degenerate[f] = doubled_area <= kDegenerateAreaRatio * longest * longest;
-  });
-  s.report.degenerate_faces = team.count_if(face_count, kGeometryGrain, [&](std::size_t f) { return degenerate[f] != 0; });
+  s.report.degenerate_faces = team.reduce_ranges(
+      face_count, kGeometryGrain, std::size_t{0},
+      [&](std::size_t first, std::size_t last) {
+        std::size_t degenerate_in_range = 0;
+        for (std::size_t f = first; f < last; ++f) {
+          const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
+                                              s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),
+                                              s.position(s.surface_to_input[s.corner_vertex[3 * f + 2]])};
+          double longest = 0;
+          for (int i = 0; i < 3; ++i) {
+            const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
+            const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
+            const double length = norm(ab);
+            longest = std::max(longest, length);
+            HalfedgeGeometry& g = s.halfedges[3 * f + i];
+            g.length = length;
+            if (length > 0) {
+              g.apex_x = dot(ac, ab) / length;
+              g.apex_y = norm(cross(ac, ab)) / length;
+            } else {  // A and B coincide: place C straight above them, which keeps the unfolding consistent
+              g.apex_x = 0;
+              g.apex_y = norm(ac);
+            }
+            s.corner_angle[3 * f + i] = std::atan2(g.apex_y, g.apex_x);
+          }
+          const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
+          degenerate[f] = doubled_area <= kDegenerateAreaRatio * longest * longest;
+          degenerate_in_range += degenerate[f];
+        }
+        return degenerate_in_range;
+      },
+      [](std::size_t a, std::size_t b) { return a + b; });
   // In halfedge order, as one thread sums: the band width of parallel runs derives from it.
   double total_length = 0;
   for (const HalfedgeGeometry& g : s.halfedges) total_length += g.length;
   s.mean_edge_length = total_length / std::max(1.0, 3.0 * face_count);
+  return degenerate;
+}
 
-  // Per vertex, over its corners in increasing order (the order of the faces): angle sums, whether it is on
-  // the boundary or on a degenerate face, and so whether geodesics may bend there.
+void walk_vertices(const ParallelTeam& team, SurfaceMesh& s, const MeshArray<std::uint8_t>& degenerate) {
+  const std::size_t corner_count = s.corner_vertex.size();
   s.fan_angles_reliable.resize(s.vertex_count);
   s.is_pseudo_source.resize(s.vertex_count);
-  s.report.saddle_vertices = team.count_if(s.vertex_count, kGeometryGrain, [&](std::size_t v) {
+  s.fan_angle_start.resize(corner_count);
+  s.corner_enters_forward.resize(corner_count);
+  s.fan_total_angle.resize(s.vertex_count);
+  s.fan_closed.resize(s.vertex_count);
+  s.report.saddle_vertices = team.count_if(s.vertex_count, kGeometryGrain, [&](std::size_t vertex) {
+    const auto v = static_cast<std::uint32_t>(vertex);
+    const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
+    // Over the corners in increasing order (the order of the faces): the angle sum, whether the vertex is
+    // on the boundary or on a degenerate face, and so whether geodesics may bend there; and where the walk
+    // starts, at the first corner with a free edge, entering through it (a closed fan starts anywhere).
     double angle_sum = 0;
     bool on_boundary = false, near_degenerate = false;
-    for (std::uint32_t i = s.vertex_corner_offsets[v]; i < s.vertex_corner_offsets[v + 1]; ++i) {
+    std::uint32_t start = s.vertex_corners[begin];
+    bool start_forward = true;
+    for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t c = s.vertex_corners[i];
       angle_sum += s.corner_angle[c];
       // The corner's halfedge leaves the vertex, the one before it arrives: on the boundary if either is.
-      on_boundary = on_boundary || s.twin[c] == kNone || s.twin[prev_halfedge(c)] == kNone;
+      const bool leaving_free = s.twin[c] == kNone, arriving_free = s.twin[prev_halfedge(c)] == kNone;
+      if (!on_boundary && (leaving_free || arriving_free)) {
+        start = c;
+        start_forward = leaving_free;
+        on_boundary = true;
+      }
       near_degenerate = near_degenerate || degenerate[face_of(c)];
     }
     const double full = on_boundary ? std::numbers::pi : 2 * std::numbers::pi;
@@ -87,38 +112,8 @@ void compute_geometry(const ParallelTeam& team, SurfaceMesh& s) {
     const bool bends = angle_sum > full + kSaddleAngleTolerance;
     s.is_pseudo_source[v] = bends || near_degenerate;
     s.fan_angles_reliable[v] = !near_degenerate;
-    return !on_boundary && bends;
-  });
-}
+    s.fan_closed[v] = !on_boundary;
 
-void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
-  const std::size_t corner_count = s.corner_vertex.size();
-  s.fan_angle_start.resize(corner_count);
-  s.corner_enters_forward.resize(corner_count);
-  s.fan_total_angle.resize(s.vertex_count);
-  s.fan_closed.resize(s.vertex_count);
-  team.for_each(s.vertex_count, kGeometryGrain, [&](std::size_t vertex) {
-    const auto v = static_cast<std::uint32_t>(vertex);
-    const std::uint32_t begin = s.vertex_corner_offsets[v], end = s.vertex_corner_offsets[v + 1];
-    // Start where the fan has a free edge, entering through it; a closed fan starts anywhere.
-    std::uint32_t start = s.vertex_corners[begin];
-    bool start_forward = true;
-    s.fan_closed[v] = 1;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const std::uint32_t c = s.vertex_corners[i];
-      if (s.twin[c] == kNone) {
-        start = c;
-        start_forward = true;
-        s.fan_closed[v] = 0;
-        break;
-      }
-      if (s.twin[prev_halfedge(c)] == kNone) {
-        start = c;
-        start_forward = false;
-        s.fan_closed[v] = 0;
-        break;
-      }
-    }
     // Each corner has two edges at v and each edge one twin, so the walk meets no corner twice; it returns
     // how many it met.
     const auto walk = [&] {
@@ -141,14 +136,16 @@ void walk_fans(const ParallelTeam& team, SurfaceMesh& s) {
       s.fan_total_angle[v] = walked;
       return met;
     };
-    if (walk() == end - begin) return;
-    // A broken fan (around a degenerate face) leaves corners unreached: they take the defaults, and the walk
-    // writes the reached ones again. Rare, so that the common fan writes each corner once.
-    for (std::uint32_t i = begin; i < end; ++i) {
-      s.fan_angle_start[s.vertex_corners[i]] = 0.0;
-      s.corner_enters_forward[s.vertex_corners[i]] = 1;
+    if (walk() != end - begin) {
+      // A broken fan (around a degenerate face) leaves corners unreached: they take the defaults, and the
+      // walk writes the reached ones again. Rare, so that the common fan writes each corner once.
+      for (std::uint32_t i = begin; i < end; ++i) {
+        s.fan_angle_start[s.vertex_corners[i]] = 0.0;
+        s.corner_enters_forward[s.vertex_corners[i]] = 1;
+      }
+      walk();
     }
-    walk();
+    return !on_boundary && bends;
   });
 }
 

@@ -79,8 +79,8 @@ constexpr void for_each_build_stats_field(Visit&& visit) {
   visit("face_order_seconds", &B::face_order_seconds, "numbering the faces in spatial order");
   visit("edges_seconds", &B::edges_seconds, "pairing faces across edges (cutting non-manifold ones), fans at vertices");
   visit("vertices_seconds", &B::vertices_seconds, "one surface vertex per fan, numbered in spatial order");
-  visit("geometry_seconds", &B::geometry_seconds, "edge lengths, unfolding frames, angles, saddles");
-  visit("fan_walk_seconds", &B::fan_walk_seconds, "ordering each vertex's corners around it");
+  visit("geometry_seconds", &B::geometry_seconds, "edge lengths, unfolding frames, angles of each face");
+  visit("fan_walk_seconds", &B::fan_walk_seconds, "angle sums and saddles per vertex, its corners in order around it");
   visit("components_seconds", &B::components_seconds, "counting the connected pieces");
 }
 

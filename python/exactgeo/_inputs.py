@@ -74,6 +74,8 @@ def index_array(
     if array.size and ((may_be_negative and array.min() < 0) or (may_be_too_large and array.max() >= INDEX_LIMIT)):
         position = _first((array < 0) | (array >= INDEX_LIMIT))
         raise ValueError(f"{element(position)} {_plain(array[position])}{out_of_range}")
+    if array.dtype == np.int32 and array.flags.c_contiguous:
+        return array.view(np.uint32)  # none negative (checked above): the same bits, without a copy
     return np.ascontiguousarray(array, dtype=np.uint32)
 
 
