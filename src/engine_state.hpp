@@ -107,7 +107,7 @@ struct EngineState {
   }
 
   // A path of length d, shorter than v's distance, reaches v: the one rule of VtpEngine::relax and
-  // ParallelPropagation::relax, which hold v. Outside the traversed area v is queued (queue()); inside, a
+  // ParallelPropagation::relax_concurrently, which hold v. Outside the traversed area v is queued (queue()); inside, a
   // pseudo-source lowered enough since it emitted emits again (emit_again()), once however often it is
   // lowered meanwhile. The distance is stored atomically: other threads read it without v's lock
   // (distance_now).
