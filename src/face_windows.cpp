@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "assert.hpp"
+#include "targets.hpp"
 
 namespace exactgeo::detail {
 namespace {
@@ -72,8 +73,8 @@ std::uint64_t FaceWindows::bytes(std::size_t halfedge_count) const {
          face_sources_.capacity() * sizeof(FaceSource);
 }
 
-// The rules by which a run evaluates its targets (VtpEngine::evaluate_targets and the sources' own faces),
-// over everything that entered the point's face during the run.
+// The rules by which a run evaluates its targets (VtpEngine::evaluate_targets and the sources' own faces; the
+// window and corner steps are targets.hpp's), over everything that entered the point's face during the run.
 double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> vertex_distance, const LocatedPoint& point,
                           Arrival& arrival) const {
   EXACTGEO_ASSERT(kept_ && point.vertex == kNone);
@@ -90,28 +91,17 @@ double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> verte
       arrival = Arrival{s->id, 3 * f, std::nan(""), sx, sy};
     }
   }
+  auto keep_shortest = [&](double d, const Arrival& reached_by) {
+    if (!(d < best)) return;
+    best = d;
+    arrival = reached_by;
+  };
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const auto [qx, qy] = position_in_frame(mesh, point, h);
-    for (const Window& w : entering(h)) {
-      double x = 0;
-      const double d = distance_through_window(w, qx, qy, x);
-      if (d < best) {
-        best = d;
-        arrival = Arrival{w.pseudo_source, h, x, w.px, w.py};
-      }
-    }
+    for (const Window& w : entering(h)) reach_through_window(w, h, qx, qy, keep_shortest);
   }
-  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-    const double at_corner = vertex_distance[mesh.apex(h)];
-    if (at_corner == HUGE_VAL) continue;
-    const HalfedgeGeometry& g = mesh.halfedges[h];
-    const auto [qx, qy] = position_in_frame(mesh, point, h);
-    const double d = at_corner + length(qx - g.apex_x, qy - g.apex_y);
-    if (d < best) {
-      best = d;
-      arrival = Arrival{mesh.apex(h), h, std::nan(""), g.apex_x, g.apex_y};
-    }
-  }
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+    reach_from_corner(mesh, h, vertex_distance[mesh.apex(h)], point, keep_shortest);
   return best;
 }
 

@@ -36,6 +36,7 @@
 #include "face_windows.hpp"
 #include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
+#include "shadow_cone.hpp"
 #include "spin_lock.hpp"
 #include "vtp_engine.hpp"
 
@@ -54,81 +55,84 @@ constexpr unsigned kManyThreads = 4;
 
 }  // namespace
 
-void VtpEngine::run_vertex_sorted_in_bands(unsigned threads) {
-  EXACTGEO_ASSERT(pool_ && pool_->threads() == threads);  // made by run, which clears the lists with it
-  parallel_ = std::make_unique<ParallelState>(threads, mesh_.vertex_count, mesh_.face_count());
-  ParallelState& parallel = *parallel_;
+void ParallelPropagation::run() {
+  const unsigned threads = pool_.threads();
+  run_ = std::make_unique<ParallelState>(threads, mesh_.vertex_count, mesh_.face_count());
+  ParallelState& parallel = *run_;
+  GeodesicStats& stats = engine_.stats_;
   // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked of the
   // team, which asked hardware_concurrency once: it reads a file.)
-  parallel.hungry_spins = pool_->oversubscribed() ? 0 : 1024;
+  parallel.hungry_spins = pool_.oversubscribed() ? 0 : 1024;
   double band_width = (threads < kManyThreads ? kBandEdgesFewThreads : kBandEdgesManyThreads) * mesh_.mean_edge_length;
   if (!(band_width > 0)) band_width = 1;  // every edge of length 0: every distance is 0
   parallel.bands.start(mesh_.vertex_count, threads, band_width);
   for_parts(mesh_.vertex_count, [&](std::size_t begin, std::size_t end) { parallel.bands.clear_vertices(begin, end); });
 
   while (true) {
-    update_cutoff();
+    engine_.update_cutoff();
     // Vertices queued on this thread alone (by the sources, and by emissions of sources in the first band).
-    while (!vertex_queue_.empty()) {
-      const std::uint32_t v = vertex_queue_.pop();
-      parallel.bands.file(v, distance_[v], 0);
+    while (!engine_.vertex_queue_.empty()) {
+      const std::uint32_t v = engine_.vertex_queue_.pop();
+      parallel.bands.file(v, state_.distance[v], 0);
     }
     {
-      const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-      const bool more = parallel.bands.next_band([&](std::uint32_t v) { return state_[v] == VertexState::queued; },
-                                                 [&](std::uint32_t v) { return distance_[v]; });
+      const PhaseTimer timer(engine_.options_.collect_timings, stats.queue_seconds);
+      const bool more =
+          parallel.bands.next_band([&](std::uint32_t v) { return state_.vertex_state[v] == VertexState::queued; },
+                                   [&](std::uint32_t v) { return state_.distance[v]; });
       if (!more) break;
     }
-    ++stats_.parallel_bands;
-    ++iteration_;  // one iteration per band: all its faces are new to the traversed area
-    const std::uint64_t pops_before = stats_.vertex_pops;
+    ++stats.parallel_bands;
+    ++engine_.iteration_;  // one iteration per band: all its faces are new to the traversed area
+    const std::uint64_t pops_before = stats.vertex_pops;
     propagate_band();
     // Progress and a stop asked for, as often as the sequential engine's (it looks at every multiple of the
     // interval).
-    if (stats_.vertex_pops / kProgressInterval != pops_before / kProgressInterval)
-      checkpoint(stats_.vertex_pops / kProgressInterval * kProgressInterval,
-                 static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
+    if (stats.vertex_pops / VtpEngine::kProgressInterval != pops_before / VtpEngine::kProgressInterval)
+      engine_.checkpoint(stats.vertex_pops / VtpEngine::kProgressInterval * VtpEngine::kProgressInterval,
+                         static_cast<double>(stats.vertex_pops) / mesh_.vertex_count);
   }
   for (const ParallelState::ThreadScratch& s : parallel.scratch) {
-    stats_.pruning_seconds += s.stats.pruning_seconds;
-    stats_.prime_propagations += s.stats.prime_propagations;
-    stats_.secondary_propagations += s.stats.secondary_propagations;
-    stats_.prime_merges += s.stats.prime_merges;
-    stats_.secondary_merges += s.stats.secondary_merges;
-    stats_.pseudo_source_emissions += s.stats.pseudo_source_emissions;
-    stats_.list_crossings += s.stats.list_crossings;
-    stats_.parallel_lock_waits += s.stats.parallel_lock_waits;
-    stats_.parallel_busy_seconds += s.stats.parallel_busy_seconds;
-    stats_.parallel_busiest_thread_seconds =
-        std::max(stats_.parallel_busiest_thread_seconds, s.stats.parallel_busy_seconds);
-    stats_.parallel_start_seconds += s.stats.parallel_start_seconds;
-    stats_.parallel_starved_seconds += s.stats.parallel_starved_seconds;
-    stats_.parallel_lock_wait_seconds += s.stats.parallel_lock_wait_seconds;
+    stats.pruning_seconds += s.stats.pruning_seconds;
+    stats.prime_propagations += s.stats.prime_propagations;
+    stats.secondary_propagations += s.stats.secondary_propagations;
+    stats.prime_merges += s.stats.prime_merges;
+    stats.secondary_merges += s.stats.secondary_merges;
+    stats.pseudo_source_emissions += s.stats.pseudo_source_emissions;
+    stats.list_crossings += s.stats.list_crossings;
+    stats.parallel_lock_waits += s.stats.parallel_lock_waits;
+    stats.parallel_busy_seconds += s.stats.parallel_busy_seconds;
+    stats.parallel_busiest_thread_seconds =
+        std::max(stats.parallel_busiest_thread_seconds, s.stats.parallel_busy_seconds);
+    stats.parallel_start_seconds += s.stats.parallel_start_seconds;
+    stats.parallel_starved_seconds += s.stats.parallel_starved_seconds;
+    stats.parallel_lock_wait_seconds += s.stats.parallel_lock_wait_seconds;
   }
-  parallel_.reset();
+  run_.reset();
 }
 
 // One band: the threads share its vertices and the crossings they set off (and file the vertices they reach
 // from outside the traversed area in the bands' queue).
-void VtpEngine::propagate_band() {
+void ParallelPropagation::propagate_band() {
   // Lists scheduled before the first band (by a source inside a face), and emissions of sources, on one
   // thread as the sequential engine would.
-  while (!emit_queue_.empty()) emit_lowered_pseudo_source();
-  ParallelState& parallel = *parallel_;
-  const unsigned threads = pool_->threads();
-  parallel.crossings.start_band(pending_);
-  pending_.clear();
-  const bool timed = options_.collect_timings;
+  while (!engine_.emit_queue_.empty()) engine_.emit_lowered_pseudo_source();
+  ParallelState& parallel = *run_;
+  GeodesicStats& stats = engine_.stats_;
+  const unsigned threads = pool_.threads();
+  parallel.crossings.start_band(engine_.pending_);
+  engine_.pending_.clear();
+  const bool timed = engine_.options_.collect_timings;
   if (timed) parallel.band_start = std::chrono::steady_clock::now();
-  pool_->run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
+  pool_.run(threads, [this](std::size_t, unsigned thread) { propagate_band_on(thread); });
   const double seconds =
       timed ? std::chrono::duration<double>(std::chrono::steady_clock::now() - parallel.band_start).count() : 0.0;
-  stats_.parallel_seconds += seconds;
+  stats.parallel_seconds += seconds;
   std::uint16_t deepest = 0;
   std::uint64_t crossings = 0, vertices = 0;
   double busy_seconds = 0;
   for (ParallelState::ThreadScratch& s : parallel.scratch) {
-    targets_changed_ = targets_changed_ || s.targets_changed;
+    engine_.targets_changed_ = engine_.targets_changed_ || s.targets_changed;
     s.targets_changed = false;
     deepest = std::max(deepest, s.deepest);
     s.deepest = 0;
@@ -137,22 +141,22 @@ void VtpEngine::propagate_band() {
     crossings += s.stats.list_crossings;
     busy_seconds += s.stats.parallel_busy_seconds;
   }
-  stats_.parallel_critical_path += deepest;
-  stats_.vertex_pops += vertices;
+  stats.parallel_critical_path += deepest;
+  stats.vertex_pops += vertices;
   if (timed) {  // the threads' counts so far, less those of the bands before
-    stats_.band_timeline.push_back({static_cast<std::uint32_t>(vertices),
-                                    static_cast<std::uint32_t>(crossings - parallel.timeline_crossings), deepest,
-                                    seconds, busy_seconds - parallel.timeline_busy_seconds});
+    stats.band_timeline.push_back({static_cast<std::uint32_t>(vertices),
+                                   static_cast<std::uint32_t>(crossings - parallel.timeline_crossings), deepest,
+                                   seconds, busy_seconds - parallel.timeline_busy_seconds});
     parallel.timeline_crossings = crossings;
     parallel.timeline_busy_seconds = busy_seconds;
   }
-  lists_.note_peak();
+  state_.lists.note_peak();
 }
 
 // One thread's part of a band, if it comes before the band is over: it takes shares of the band's vertices
 // while there are any (its own first), then crosses lists until every thread that joined has run out.
-void VtpEngine::propagate_band_on(unsigned thread) {
-  ParallelState& parallel = *parallel_;
+void ParallelPropagation::propagate_band_on(unsigned thread) {
+  ParallelState& parallel = *run_;
   CrossingQueues& crossings = parallel.crossings;
   if (!crossings.join()) return;
   const unsigned threads = crossings.threads();
@@ -165,7 +169,7 @@ void VtpEngine::propagate_band_on(unsigned thread) {
     }
   };
   // With collect_timings, `mark` is when the thread last started working or waiting.
-  const bool timed = options_.collect_timings;
+  const bool timed = engine_.options_.collect_timings;
   auto mark = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   auto time_since_mark = [&](double& bucket) {
     const auto now = std::chrono::steady_clock::now();
@@ -220,126 +224,150 @@ void VtpEngine::propagate_band_on(unsigned thread) {
   leave();
 }
 
-// move_inside, with other threads running, for a vertex of the band under way's share that `thread` took:
+// VtpEngine::move_inside, with other threads running, for a vertex of the band under way's share that `thread` took:
 // whether v is still to be taken (false for an entry left behind when v was filed again, or one that lies
 // beyond the band, which is filed again now). v's lock orders this with lowering v: a path that lowers v
 // before it moves inside files nothing (v stays in the band), one after it makes v emit again.
-bool VtpEngine::take_concurrently(std::uint32_t v, unsigned thread) {
-  const SpinGuard guard(parallel_->vertex_locks[v]);
-  if (!parallel_->bands.take(v, state_[v] == VertexState::queued, distance_[v], thread)) return false;
-  state_[v] = VertexState::inside;
-  ++parallel_->scratch[thread].vertices_taken;
+bool ParallelPropagation::take_concurrently(std::uint32_t v, unsigned thread) {
+  const SpinGuard guard(run_->vertex_locks[v]);
+  if (!run_->bands.take(v, state_.vertex_state[v] == VertexState::queued, state_.distance[v], thread)) return false;
+  state_.vertex_state[v] = VertexState::inside;
+  ++run_->scratch[thread].vertices_taken;
   return true;
 }
 
-// enclose_vertex, with other threads running. A face joins the traversed area under its lock, which its
+// VtpEngine::enclose_vertex, with other threads running. A face joins the traversed area under its lock, which its
 // lists' windows arrive under too: a window placed or delivered there either comes first and is found here,
 // or finds the face inside and is scheduled by whoever brought it.
-void VtpEngine::enclose_concurrently(std::uint32_t v, unsigned thread) {
-  if (bends_paths(v)) parallel_->scratch[thread].to_emit.push_back(v);
-  prefetch_faces_of(v);
+void ParallelPropagation::enclose_concurrently(std::uint32_t v, unsigned thread) {
+  if (state_.bends_paths(v)) run_->scratch[thread].to_emit.push_back(v);
+  state_.prefetch_faces_of(v);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
-    if (face_inside(f)) continue;  // most are: a plain load spares taking the lock, a locked instruction
-    const SpinGuard guard(parallel_->face_locks[f]);
-    if (face_inside(f)) continue;  // another thread's vertex of the same band entered it meanwhile
-    std::atomic_ref<std::uint32_t>(face_visited_at_[f]).store(iteration_, std::memory_order_relaxed);
+    if (state_.face_inside(f)) continue;  // most are: a plain load spares taking the lock, a locked instruction
+    const SpinGuard guard(run_->face_locks[f]);
+    if (state_.face_inside(f)) continue;  // another thread's vertex of the same band entered it meanwhile
+    std::atomic_ref<std::uint32_t>(state_.face_visited_at[f]).store(engine_.iteration_, std::memory_order_relaxed);
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-      if (!lists_.empty(h)) schedule_locked(h, thread);
+      if (!state_.lists.empty(h)) schedule_locked(h, thread);
   }
 }
 
-// cross, with other threads running: the list is taken off h first, so that windows can join h meanwhile
+// VtpEngine::cross, with other threads running: the list is taken off h first, so that windows can join h meanwhile
 // (they schedule it again).
-void VtpEngine::cross_concurrently(std::uint32_t h, unsigned thread) {
-  ParallelState::ThreadScratch& scratch = parallel_->scratch[thread];
+void ParallelPropagation::cross_concurrently(std::uint32_t h, unsigned thread) {
+  ParallelState::ThreadScratch& scratch = run_->scratch[thread];
   WindowLists::List taken;
   {
-    const SpinGuard guard(parallel_->face_locks[face_of(h)]);
-    taken = lists_.take(h);  // no longer scheduled, its depth back to 0
+    const SpinGuard guard(run_->face_locks[face_of(h)]);
+    taken = state_.lists.take(h);  // no longer scheduled, its depth back to 0
     scratch.depth = std::max<std::uint16_t>(taken.depth, 1);
   }
   if (taken.size == 0) return;
-  prefetch_destinations(h);
+  state_.prefetch_destinations(h);
   ++scratch.stats.list_crossings;
   scratch.deepest = std::max(scratch.deepest, scratch.depth);
   std::span<Window> incoming(taken.data, taken.size);
-  if (worth_pruning(taken)) {
-    const PhaseTimer timer(options_.collect_timings, scratch.stats.pruning_seconds);
-    incoming = incoming.first(prune_list(incoming, tolerances_));
+  if (engine_.worth_pruning(taken)) {
+    const PhaseTimer timer(engine_.options_.collect_timings, scratch.stats.pruning_seconds);
+    incoming = incoming.first(prune_list(incoming, state_.tolerances));
   }
-  if (kept_windows_) {
-    const SpinGuard guard(parallel_->face_locks[face_of(h)]);  // h may be crossing on another thread too
-    keep_entering(h, incoming, thread);
+  if (engine_.kept_windows_) {
+    const SpinGuard guard(run_->face_locks[face_of(h)]);  // h may be crossing on another thread too
+    engine_.keep_entering(h, incoming, thread);
   }
   // The face entered in this band or before: no thread changes its visit any more.
-  const bool prime = std::atomic_ref<std::uint32_t>(face_visited_at_[face_of(h)]).load(std::memory_order_relaxed) == iteration_;
+  const bool prime =
+      std::atomic_ref<std::uint32_t>(state_.face_visited_at[face_of(h)]).load(std::memory_order_relaxed) ==
+      engine_.iteration_;
   ApexReach reach;
   Arrival at_apex;
   for (std::vector<Window>& crossed : scratch.crossed) crossed.clear();
   const std::uint64_t propagations =
-      cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], reach, at_apex);
+      engine_.cross_list(h, incoming, scratch.splits, scratch.crossed[0], scratch.crossed[1], reach, at_apex);
   (prime ? scratch.stats.prime_propagations : scratch.stats.secondary_propagations) += propagations;
-  if (targets_.in_faces()) {
-    const std::lock_guard lock(parallel_->targets_mutex);
-    evaluate_targets(h, incoming);
+  if (state_.targets.in_faces()) {
+    const std::lock_guard lock(run_->targets_mutex);
+    engine_.evaluate_targets(h, incoming);
   }
-  lists_.give_back(taken, thread);
+  state_.lists.give_back(taken, thread);
   relax_concurrently(mesh_.apex(h), reach.distance, at_apex, thread);
   deliver_concurrently(prev_halfedge(h), scratch.crossed[0], mesh_.tail(h), prime, thread);
   deliver_concurrently(next_halfedge(h), scratch.crossed[1], mesh_.head(h), prime, thread);
 }
 
-// relax, with other threads running: v's distance and arrival change under its lock; v is filed in the
+// VtpEngine::relax, with other threads running: v's distance and arrival change under its lock; v is filed in the
 // bands' queue by this thread, and a pseudo-source inside emits again once this thread's crossing is done.
-void VtpEngine::relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread) {
-  if (!(d < distance_now(v))) return;
-  ParallelState::ThreadScratch& scratch = parallel_->scratch[thread];
-  const SpinGuard guard(parallel_->vertex_locks[v]);
-  if (!(d < distance_[v])) return;
-  lower(
-      v, d, arrival, scratch.targets_changed, [&] { parallel_->bands.file(v, d, thread); },
+void ParallelPropagation::relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread) {
+  if (!(d < state_.distance_now(v))) return;
+  ParallelState::ThreadScratch& scratch = run_->scratch[thread];
+  const SpinGuard guard(run_->vertex_locks[v]);
+  if (!(d < state_.distance[v])) return;
+  state_.lower(
+      v, d, arrival, scratch.targets_changed, [&] { run_->bands.file(v, d, thread); },
       [&] { scratch.to_emit.push_back(v); });
 }
 
-// place_new_window, with other threads running.
-void VtpEngine::place_concurrently(std::uint32_t g, const Window& w, unsigned thread) {
-  if (beyond_cutoff(w, goal_across(g))) return;
-  const SpinGuard guard(parallel_->face_locks[face_of(g)]);
-  if (face_inside(face_of(g))) {
-    lists_.append(g, {&w, 1}, thread);
+// VtpEngine::emit, with other threads running:
+// v's distance and arrival are read under its lock, the distances it offers and the windows it places go in
+// under theirs.
+void ParallelPropagation::emit_concurrently(std::uint32_t v, unsigned thread) {
+  double d;
+  Arrival arrival;
+  {
+    const SpinGuard guard(run_->vertex_locks[v]);
+    state_.emit_scheduled[v] = 0;
+    d = state_.distance[v];
+    arrival = state_.arrival[v];
+    if (!state_.lowered_since_emission(v, d) || state_.emission_beyond_cutoff(v, d)) return;
+    state_.emitted_at[v] = d;
+  }
+  ++run_->scratch[thread].stats.pseudo_source_emissions;
+  for_each_emission_part(
+      mesh_, v, d, arrival, state_.tolerances.min_width,
+      [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
+      [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });
+}
+
+// VtpEngine::place_new_window, with other threads running.
+void ParallelPropagation::place_concurrently(std::uint32_t g, const Window& w, unsigned thread) {
+  if (state_.beyond_cutoff(w, state_.goal_across(g))) return;
+  const SpinGuard guard(run_->face_locks[face_of(g)]);
+  if (state_.face_inside(face_of(g))) {
+    state_.lists.append(g, {&w, 1}, thread);
     schedule_locked(g, thread);
   } else {
-    lists_.prepend(g, {&w, 1}, thread);
+    state_.lists.prepend(g, {&w, 1}, thread);
   }
 }
 
-// deliver, with other threads running. The edge's face may have joined the traversed area since hand_over
+// VtpEngine::deliver, with other threads running. The edge's face may have joined the traversed area since hand_over
 // looked: the windows then join as inside, and the list is scheduled.
-void VtpEngine::deliver_concurrently(std::uint32_t side, std::span<Window> windows, std::uint32_t origin,
-                                     bool prime, unsigned thread) {
+void ParallelPropagation::deliver_concurrently(std::uint32_t side, std::span<Window> windows, std::uint32_t origin,
+                                               bool prime, unsigned thread) {
   if (windows.empty()) return;
-  Handover to = hand_over(side, windows, origin, prime);
+  Handover to = engine_.hand_over(side, windows, origin, prime);
   if (to.edge == kNone || to.count == 0) return;
-  GeodesicStats& stats = parallel_->scratch[thread].stats;
-  const SpinGuard guard(parallel_->face_locks[face_of(to.edge)]);
-  if (face_inside(face_of(to.edge))) to.joining = Joining::inside;
-  if (to.joining != Joining::inside && !lists_.empty(to.edge)) ++(prime ? stats.prime_merges : stats.secondary_merges);
-  const std::span<Window> list = lists_.extend(to.edge, to.count, thread);
+  GeodesicStats& stats = run_->scratch[thread].stats;
+  const SpinGuard guard(run_->face_locks[face_of(to.edge)]);
+  if (state_.face_inside(face_of(to.edge))) to.joining = Joining::inside;
+  if (to.joining != Joining::inside && !state_.lists.empty(to.edge))
+    ++(prime ? stats.prime_merges : stats.secondary_merges);
+  const std::span<Window> list = state_.lists.extend(to.edge, to.count, thread);
   std::copy(windows.begin(), windows.begin() + to.count, list.end() - static_cast<std::ptrdiff_t>(to.count));
   join(list, to.count, to.joining);
   if (to.joining == Joining::inside) schedule_locked(to.edge, thread);
 }
 
-// schedule, with the lock of h's face held: into this thread's queue. The list's depth is one more than the
+// VtpEngine::schedule, with the lock of h's face held: into this thread's queue. The list's depth is one more than the
 // crossing's that reached it (saturating: only a statistic).
-void VtpEngine::schedule_locked(std::uint32_t h, unsigned thread) {
-  WindowLists::List& edge = lists_.record(h);
-  const std::uint16_t depth = parallel_->scratch[thread].depth;
+void ParallelPropagation::schedule_locked(std::uint32_t h, unsigned thread) {
+  WindowLists::List& edge = state_.lists.record(h);
+  const std::uint16_t depth = run_->scratch[thread].depth;
   edge.depth = std::max<std::uint16_t>(edge.depth, depth == UINT16_MAX ? depth : static_cast<std::uint16_t>(depth + 1));
   if (edge.scheduled) return;
   edge.scheduled = 1;
-  parallel_->crossings.push(thread, h);
+  run_->crossings.push(thread, h);
 }
 
 }  // namespace exactgeo::detail

@@ -19,6 +19,29 @@
 
 namespace exactgeo::detail {
 
+// The two ways a path reaches a point q inside a face, at (qx, qy) in the frame of h, a halfedge of that face:
+// the rules of a run's targets (RunTargets) and of the points queried after it (FaceWindows::reach), written
+// once. reached(d, arrival) is called with the path's length and how it arrives, if there is a path.
+//
+// Straight from the pseudo-source of w, a window of the list entering the face through h, if the ray to q
+// crosses w.
+template <class Reached>
+void reach_through_window(const Window& w, std::uint32_t h, double qx, double qy, Reached&& reached) {
+  double x = 0;
+  const double d = distance_through_window(w, qx, qy, x);
+  if (d < HUGE_VAL) reached(d, Arrival{w.pseudo_source, h, x, w.px, w.py});
+}
+
+// Straight from the face's corner opposite h, at distance at_corner (HUGE_VAL: not reached).
+template <class Reached>
+void reach_from_corner(const SurfaceMesh& mesh, std::uint32_t h, double at_corner, const LocatedPoint& q,
+                       Reached&& reached) {
+  if (at_corner == HUGE_VAL) return;
+  const HalfedgeGeometry& g = mesh.halfedges[h];
+  const auto [qx, qy] = position_in_frame(mesh, q, h);
+  reached(at_corner + length(qx - g.apex_x, qy - g.apex_y), Arrival{mesh.apex(h), h, std::nan(""), g.apex_x, g.apex_y});
+}
+
 class RunTargets {
  public:
   // Forgets the last run's targets and lists these, none reached yet.
@@ -78,11 +101,9 @@ class RunTargets {
                      bool& farthest_changed) {
     for (const std::uint32_t t : in_face(face_of(h))) {
       const auto [qx, qy] = position_in_frame(mesh, points_[t], h);
-      for (const Window& w : list) {
-        double x = 0;
-        const double d = distance_through_window(w, qx, qy, x);
-        if (d < HUGE_VAL) offer(t, d, Arrival{w.pseudo_source, h, x, w.px, w.py}, cutoff, farthest_changed);
-      }
+      for (const Window& w : list)
+        reach_through_window(w, h, qx, qy,
+                             [&](double d, const Arrival& arrival) { offer(t, d, arrival, cutoff, farthest_changed); });
     }
   }
 
@@ -92,15 +113,9 @@ class RunTargets {
   void evaluate_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, double cutoff,
                              bool& farthest_changed) {
     for (const std::uint32_t t : in_face(f)) {
-      for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-        const std::uint32_t corner = mesh.apex(h);
-        const double at_corner = distance_at(corner);
-        if (at_corner == HUGE_VAL) continue;
-        const HalfedgeGeometry& g = mesh.halfedges[h];
-        const auto [qx, qy] = position_in_frame(mesh, points_[t], h);
-        offer(t, at_corner + length(qx - g.apex_x, qy - g.apex_y), Arrival{corner, h, std::nan(""), g.apex_x, g.apex_y},
-              cutoff, farthest_changed);
-      }
+      for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+        reach_from_corner(mesh, h, distance_at(mesh.apex(h)), points_[t],
+                          [&](double d, const Arrival& arrival) { offer(t, d, arrival, cutoff, farthest_changed); });
     }
   }
 

@@ -8,12 +8,9 @@
 #include <numbers>
 
 #include "assert.hpp"
-#include "cache_hint.hpp"
 #include "face_windows.hpp"
-#include "parallel_propagation.hpp"
 #include "phase_timer.hpp"
 #include "shadow_cone.hpp"
-#include "spin_lock.hpp"
 #include "stop.hpp"
 #include "tolerances.hpp"
 
@@ -28,7 +25,7 @@ std::array<double, 3> engine_position(const SurfaceMesh& mesh, const LocatedPoin
 
 }  // namespace
 
-VtpEngine::VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh) {}
+VtpEngine::VtpEngine(const SurfaceMesh& mesh) : mesh_(mesh), state_(mesh) {}
 VtpEngine::~VtpEngine() = default;
 
 void VtpEngine::run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
@@ -37,36 +34,34 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   options_.max_distance = mesh_.to_engine_length(options.max_distance);  // the cut-off in the engine's frame
   face_sorted_ = options.algorithm == Algorithm::ftp || options.algorithm == Algorithm::opftp;
   order_preserving_ = options.algorithm == Algorithm::opvtp || options.algorithm == Algorithm::opftp;
-  tolerances_ = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale,
-                 kReemitTolerance * mesh_.length_scale};
+  state_.tolerances = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale,
+                       kReemitTolerance * mesh_.length_scale};
   stats_ = {};
-  cutoff_ = options_.max_distance;
+  state_.cutoff = options_.max_distance;
   sources_.assign(sources.begin(), sources.end());
   const std::uint32_t n = mesh_.vertex_count;
   const unsigned wanted = face_sorted_ ? 1 : threads_or_cores(options.threads);
-  if (wanted > 1 && (!pool_ || pool_asked_ != wanted)) {
-    pool_ = std::make_unique<WorkerPool>(wanted);
-    pool_asked_ = wanted;
-  }
-  threads_ = wanted > 1 ? pool_->threads() : 1;  // fewer if the system would not start them all
+  if (wanted > 1 && (!parallel_ || parallel_->threads_asked() != wanted))
+    parallel_ = std::make_unique<ParallelPropagation>(*this, state_, wanted);
+  threads_ = wanted > 1 ? parallel_->threads() : 1;  // fewer if the system would not start them all
   // The per-vertex and per-face state is written on the threads, which also places its fresh pages.
-  distance_.resize(n);
-  emitted_at_.resize(n);
-  arrival_.resize(n);
-  state_.resize(n);
-  emit_scheduled_.resize(n);
-  source_label_.resize(n);
-  face_visited_at_.resize(mesh_.face_count());
+  state_.distance.resize(n);
+  state_.emitted_at.resize(n);
+  state_.arrival.resize(n);
+  state_.vertex_state.resize(n);
+  state_.emit_scheduled.resize(n);
+  state_.source_label.resize(n);
+  state_.face_visited_at.resize(mesh_.face_count());
   for_parts(n, [&](std::size_t begin, std::size_t end) {
-    std::fill(distance_.begin() + begin, distance_.begin() + end, HUGE_VAL);
-    std::fill(emitted_at_.begin() + begin, emitted_at_.begin() + end, HUGE_VAL);
-    std::fill(arrival_.begin() + begin, arrival_.begin() + end, Arrival{});
-    std::fill(state_.begin() + begin, state_.begin() + end, VertexState::unseen);
-    std::fill(emit_scheduled_.begin() + begin, emit_scheduled_.begin() + end, std::uint8_t{0});
-    std::fill(source_label_.begin() + begin, source_label_.begin() + end, kNone);
+    std::fill(state_.distance.begin() + begin, state_.distance.begin() + end, HUGE_VAL);
+    std::fill(state_.emitted_at.begin() + begin, state_.emitted_at.begin() + end, HUGE_VAL);
+    std::fill(state_.arrival.begin() + begin, state_.arrival.begin() + end, Arrival{});
+    std::fill(state_.vertex_state.begin() + begin, state_.vertex_state.begin() + end, VertexState::unseen);
+    std::fill(state_.emit_scheduled.begin() + begin, state_.emit_scheduled.begin() + end, std::uint8_t{0});
+    std::fill(state_.source_label.begin() + begin, state_.source_label.begin() + end, kNone);
   });
   for_parts(mesh_.face_count(), [&](std::size_t begin, std::size_t end) {
-    std::fill(face_visited_at_.begin() + begin, face_visited_at_.begin() + end, kNone);
+    std::fill(state_.face_visited_at.begin() + begin, state_.face_visited_at.begin() + end, kNone);
   });
   vertex_queue_.reset(face_sorted_ ? 0 : n);
   face_queue_.reset(face_sorted_ ? mesh_.face_count() : 0);
@@ -78,11 +73,11 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   pending_front_ = 0;
   emit_queue_.clear();
   iteration_ = 0;
-  targets_.assign(mesh_, targets);
+  state_.targets.assign(mesh_, targets);
   targets_changed_ = !targets.empty();
   // The parallel bands keep the plain order: pair_distances runs each search on one thread.
-  goal_.clear();
-  if (goal_directed_ && targets.size() == 1 && threads_ == 1) goal_.aim_at(engine_position(mesh_, targets[0]));
+  state_.goal.clear();
+  if (goal_directed_ && targets.size() == 1 && threads_ == 1) state_.goal.aim_at(engine_position(mesh_, targets[0]));
   if (options.keep_windows) {
     if (!kept_windows_) kept_windows_ = std::make_unique<FaceWindows>();
     kept_windows_->start(mesh_.halfedges.size(), threads_,
@@ -90,8 +85,8 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   } else {
     kept_windows_.reset();  // an ordinary run keeps nothing
   }
-  lists_.reset(mesh_.halfedges.size(), threads_,
-               [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
+  state_.lists.reset(mesh_.halfedges.size(), threads_,
+                     [&](std::size_t count, const auto& clear) { for_parts(count, clear); });
   stats_.threads = threads_;
 
   for (std::uint32_t i = 0; i < sources_.size(); ++i) {
@@ -99,28 +94,28 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
     if (v == kNone) {
       start_point_source(i);
     } else {
-      if (source_label_[v] == kNone) source_label_[v] = sources_[i].label;
+      if (state_.source_label[v] == kNone) state_.source_label[v] = sources_[i].label;
       relax(v, 0.0, Arrival{v});
     }
   }
   if (face_sorted_) {
     run_face_sorted();
   } else if (threads_ > 1) {
-    run_vertex_sorted_in_bands(threads_);
+    parallel_->run();
   } else {
     run_vertex_sorted();
   }
   // Paths through a corner are only final now that every vertex distance is.
-  if (targets_.in_faces())
+  if (state_.targets.in_faces())
     for (std::uint32_t f = 0; f < mesh_.face_count(); ++f)
-      if (!targets_.in_face(f).empty()) evaluate_targets_from_corners(f);
+      if (!state_.targets.in_face(f).empty()) evaluate_targets_from_corners(f);
   targets_changed_ = true;
   update_cutoff();
   stats_.window_propagations = stats_.prime_propagations + stats_.secondary_propagations;
-  stats_.peak_windows = lists_.peak_live();
-  stats_.peak_window_bytes = lists_.arena_bytes();
+  stats_.peak_windows = state_.lists.peak_live();
+  stats_.peak_window_bytes = state_.lists.arena_bytes();
   if (kept_windows_) {
-    kept_windows_->finish(mesh_, distance_, cutoff_, sources_, tolerances_);
+    kept_windows_->finish(mesh_, state_.distance, state_.cutoff, sources_, state_.tolerances);
     stats_.kept_windows = kept_windows_->window_count();
     stats_.kept_window_bytes = kept_windows_->bytes(mesh_.halfedges.size());
   }
@@ -132,8 +127,8 @@ const FaceWindows* VtpEngine::kept_windows() const {
 
 // With keep_windows: the list entering face(h) through h, logged for queries after the run.
 void VtpEngine::keep_entering(std::uint32_t h, std::span<const Window> list, unsigned thread) {
-  kept_windows_->record(mesh_, h, list, distance_now(mesh_.tail(h)), distance_now(mesh_.head(h)), cutoff_,
-                        tolerances_, thread);
+  kept_windows_->record(mesh_, h, list, state_.distance_now(mesh_.tail(h)), state_.distance_now(mesh_.head(h)),
+                        state_.cutoff, state_.tolerances, thread);
 }
 
 // Vertex-sorted (VTP, OPVTP): each iteration pops the nearest wavefront vertex and adds all its faces.
@@ -158,23 +153,23 @@ void VtpEngine::keep_entering(std::uint32_t h, std::span<const Window> list, uns
 // area.
 void VtpEngine::enclose_vertex(std::uint32_t v) {
   move_inside(v);
-  if (bends_paths(v)) emit(v);
+  if (state_.bends_paths(v)) emit(v);
   enter_faces_of(v);
 }
 
 void VtpEngine::move_inside(std::uint32_t v) {
   // A vertex's state only moves forward (unseen, queued, inside): only queued vertices are in the queue.
-  EXACTGEO_ASSERT(state_[v] == VertexState::queued);
-  state_[v] = VertexState::inside;
+  EXACTGEO_ASSERT(state_.vertex_state[v] == VertexState::queued);
+  state_.vertex_state[v] = VertexState::inside;
   ++stats_.vertex_pops;
   checkpoint(stats_.vertex_pops, static_cast<double>(stats_.vertex_pops) / mesh_.vertex_count);
 }
 
 void VtpEngine::enter_faces_of(std::uint32_t v) {
-  prefetch_faces_of(v);
+  state_.prefetch_faces_of(v);
   for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
-    if (face_visited_at_[f] == kNone) enter_face(f);
+    if (state_.face_visited_at[f] == kNone) enter_face(f);
   }
 }
 
@@ -203,7 +198,7 @@ void VtpEngine::run_face_sorted() {
       const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
       f = face_queue_.pop();
     }
-    if (face_visited_at_[f] != kNone) continue;  // joined with a source's one-ring while queued
+    if (state_.face_visited_at[f] != kNone) continue;  // joined with a source's one-ring while queued
     ++stats_.face_pops;
     checkpoint(stats_.face_pops, static_cast<double>(stats_.face_pops) / mesh_.face_count());
     join_face(f);
@@ -219,33 +214,34 @@ void VtpEngine::checkpoint(std::uint64_t pops, double fraction) {
 
 // Adds f to the traversed area in the current iteration: the lists waiting on its edges will cross it.
 void VtpEngine::enter_face(std::uint32_t f) {
-  face_visited_at_[f] = iteration_;
+  state_.face_visited_at[f] = iteration_;
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-    if (!lists_.empty(h)) schedule(h);
+    if (!state_.lists.empty(h)) schedule(h);
 }
 
 // Face-sorted: f joins the traversed area as one iteration. Then each corner whose faces have all joined is
 // enclosed: a pseudo-source among them emits (paper Section 5.2, Saddle Vertices, first scenario), with the
 // distance that crossing f may just have lowered. Neighbours across edges that carried no window are queued.
 void VtpEngine::join_face(std::uint32_t f) {
-  if (face_visited_at_[f] != kNone) return;
+  if (state_.face_visited_at[f] != kNone) return;
   ++iteration_;
   enter_face(f);
   drain();
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const std::uint32_t v = mesh_.tail(h);
-    EXACTGEO_ASSERT(faces_to_join_[v] > 0 && state_[v] != VertexState::inside);
+    EXACTGEO_ASSERT(faces_to_join_[v] > 0 && state_.vertex_state[v] != VertexState::inside);
     if (--faces_to_join_[v] != 0) continue;
-    state_[v] = VertexState::inside;
-    if (bends_paths(v) && distance_[v] < HUGE_VAL) {
+    state_.vertex_state[v] = VertexState::inside;
+    if (state_.bends_paths(v) && state_.distance[v] < HUGE_VAL) {
       emit(v);
       drain();
     }
   }
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const std::uint32_t g = mesh_.twin[h];
-    if (g == kNone || face_visited_at_[face_of(g)] != kNone || face_queue_.contains(face_of(g))) continue;
-    const double key = goal_.key(mesh_, mesh_.apex(g), std::max(distance_[mesh_.tail(h)], distance_[mesh_.head(h)]));
+    if (g == kNone || state_.face_visited_at[face_of(g)] != kNone || face_queue_.contains(face_of(g))) continue;
+    const double key =
+        state_.goal.key(mesh_, mesh_.apex(g), std::max(state_.distance[mesh_.tail(h)], state_.distance[mesh_.head(h)]));
     const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
     face_queue_.push_or_decrease(face_of(g), key);
   }
@@ -266,16 +262,17 @@ void VtpEngine::start_point_source(std::uint32_t site) {
       // The corner opposite h is reached straight inside the face.
       relax(mesh_.apex(h), length(g.apex_x - x, g.apex_y - y), Arrival{id, h, std::nan(""), x, y});
       const std::uint32_t across = mesh_.twin[h];
-      if (h == in_face.edge || across == kNone || !(g.length > tolerances_.min_width)) continue;
+      if (h == in_face.edge || across == kNone || !(g.length > state_.tolerances.min_width)) continue;
       place_new_window(across, to_twin_frame(Window{0, g.length, x, -y, 0, id}, g.length,
                                              mesh_.tail(across) != mesh_.tail(h)));
     }
     // Targets in the same face are reached straight.
-    if (!targets_.in_faces()) continue;
+    if (!state_.targets.in_faces()) continue;
     const auto [sx, sy] = position_in_frame(mesh_, in_face, 3 * f);
-    for (const std::uint32_t t : targets_.in_face(f)) {
-      const auto [qx, qy] = position_in_frame(mesh_, targets_.points()[t], 3 * f);
-      targets_.offer(t, length(qx - sx, qy - sy), Arrival{id, 3 * f, std::nan(""), sx, sy}, cutoff_, targets_changed_);
+    for (const std::uint32_t t : state_.targets.in_face(f)) {
+      const auto [qx, qy] = position_in_frame(mesh_, state_.targets.points()[t], 3 * f);
+      state_.targets.offer(t, length(qx - sx, qy - sy), Arrival{id, 3 * f, std::nan(""), sx, sy}, state_.cutoff,
+                           targets_changed_);
     }
   }
 }
@@ -283,24 +280,14 @@ void VtpEngine::start_point_source(std::uint32_t site) {
 // The queue push, out of line (and timed when asked): relax runs for every list crossing and stays small.
 void VtpEngine::push_vertex(std::uint32_t v, double d) {
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
-  vertex_queue_.push_or_decrease(v, goal_.key(mesh_, v, d));
-}
-
-// v's distance as it stands, while other threads may be lowering it (under v's lock).
-double VtpEngine::distance_now(std::uint32_t v) const {
-  return std::atomic_ref<double>(const_cast<double&>(distance_[v])).load(std::memory_order_relaxed);
-}
-
-// Whether f is in the traversed area, while other threads may be adding faces to it.
-bool VtpEngine::face_inside(std::uint32_t f) const {
-  return std::atomic_ref<std::uint32_t>(const_cast<std::uint32_t&>(face_visited_at_[f])).load(std::memory_order_relaxed) != kNone;
+  vertex_queue_.push_or_decrease(v, state_.goal.key(mesh_, v, d));
 }
 
 // A path of length d reaches v, arriving as `arrival` says.
 void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
   EXACTGEO_ASSERT(d >= 0);  // and not NaN
-  if (!(d < distance_[v])) return;
-  lower(
+  if (!(d < state_.distance[v])) return;
+  state_.lower(
       v, d, arrival, targets_changed_,
       [&] {
         if (!face_sorted_) push_vertex(v, d);
@@ -309,7 +296,7 @@ void VtpEngine::relax(std::uint32_t v, double d, const Arrival& arrival) {
 }
 
 void VtpEngine::schedule(std::uint32_t h) {
-  WindowLists::List& list = lists_.record(h);
+  WindowLists::List& list = state_.lists.record(h);
   if (list.scheduled) return;
   list.scheduled = 1;
   pending_.push_back(h);
@@ -318,13 +305,13 @@ void VtpEngine::schedule(std::uint32_t h) {
 // A window just created on g (by a pseudo-source or a source point): it waits on the wavefront, or moves on
 // at once if g's face is already traversed.
 void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
-  if (beyond_cutoff(w, goal_across(g))) return;
-  if (face_visited_at_[face_of(g)] != kNone) {
-    lists_.append(g, {&w, 1}, 0);
+  if (state_.beyond_cutoff(w, state_.goal_across(g))) return;
+  if (state_.face_visited_at[face_of(g)] != kNone) {
+    state_.lists.append(g, {&w, 1}, 0);
     schedule(g);
   } else {
     if (face_sorted_) queue_face(g, {&w, 1});
-    lists_.prepend(g, {&w, 1}, 0);
+    state_.lists.prepend(g, {&w, 1}, 0);
   }
 }
 
@@ -332,7 +319,8 @@ void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
 // priority (the distance to the corner opposite g) forward.
 void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
   if (arriving.empty()) return;
-  const double key = goal_.key(mesh_, mesh_.apex(g), reach_apex(arriving, face_frame(mesh_, g), key_splits_).distance);
+  const double key =
+      state_.goal.key(mesh_, mesh_.apex(g), reach_apex(arriving, face_frame(mesh_, g), key_splits_).distance);
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
   face_queue_.push_or_decrease(face_of(g), key);
 }
@@ -343,35 +331,14 @@ void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
 // shortened around v): only that shadow cone gets windows, which for a scan's many near-flat saddles is
 // a sliver. Sources, and vertices without reliable angles, send windows everywhere.
 void VtpEngine::emit(std::uint32_t v) {
-  EXACTGEO_ASSERT(distance_[v] < HUGE_VAL);  // it was reached: queued, or enclosed with a distance
-  if (emission_beyond_cutoff(v, distance_[v])) return;
-  emitted_at_[v] = distance_[v];
+  EXACTGEO_ASSERT(state_.distance[v] < HUGE_VAL);  // it was reached: queued, or enclosed with a distance
+  if (state_.emission_beyond_cutoff(v, state_.distance[v])) return;
+  state_.emitted_at[v] = state_.distance[v];
   ++stats_.pseudo_source_emissions;
   for_each_emission_part(
-      mesh_, v, distance_[v], arrival_[v], tolerances_.min_width,
+      mesh_, v, state_.distance[v], state_.arrival[v], state_.tolerances.min_width,
       [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
       [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
-}
-
-// emit, with other threads running (parallel_propagation.cpp; written here, beside emit):
-// v's distance and arrival are read under its lock, the distances it offers and the windows it places go in
-// under theirs.
-void VtpEngine::emit_concurrently(std::uint32_t v, unsigned thread) {
-  double d;
-  Arrival arrival;
-  {
-    const SpinGuard guard(parallel_->vertex_locks[v]);
-    emit_scheduled_[v] = 0;
-    d = distance_[v];
-    arrival = arrival_[v];
-    if (!lowered_since_emission(v, d) || emission_beyond_cutoff(v, d)) return;
-    emitted_at_[v] = d;
-  }
-  ++parallel_->scratch[thread].stats.pseudo_source_emissions;
-  for_each_emission_part(
-      mesh_, v, d, arrival, tolerances_.min_width,
-      [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
-      [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });
 }
 
 void VtpEngine::drain() {
@@ -382,14 +349,14 @@ void VtpEngine::drain() {
     }
     const std::uint32_t h = pending_[pending_front_++];
     if (pending_front_ < pending_.size()) {  // the next to cross
-      lists_.prefetch_windows(pending_[pending_front_]);
-      prefetch_crossing(pending_[pending_front_]);
+      state_.lists.prefetch_windows(pending_[pending_front_]);
+      state_.prefetch_crossing(pending_[pending_front_]);
     }
     if (pending_front_ == pending_.size()) {
       pending_.clear();
       pending_front_ = 0;
     }
-    lists_.record(h).scheduled = 0;
+    state_.lists.record(h).scheduled = 0;
     cross(h);
   }
 }
@@ -398,64 +365,20 @@ void VtpEngine::drain() {
 void VtpEngine::emit_lowered_pseudo_source() {
   const std::uint32_t v = emit_queue_.back();
   emit_queue_.pop_back();
-  emit_scheduled_[v] = 0;
-  if (lowered_since_emission(v, distance_[v])) emit(v);
-}
-
-// Cache hints for the records entering v's faces reads: each face's visit and its three lists.
-void VtpEngine::prefetch_faces_of(std::uint32_t v) const {
-  for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i) {
-    const std::uint32_t f = face_of(mesh_.vertex_corners[i]);
-    prefetch(&face_visited_at_[f]);
-    lists_.prefetch_record(3 * f);
-    lists_.prefetch_record(3 * f + 2);  // the three records may straddle a cache line
-  }
-}
-
-// Cache hints for a face's frames, twins and corners (its halfedges' frames may straddle a cache line).
-void VtpEngine::prefetch_face(std::uint32_t f) const {
-  prefetch(&mesh_.halfedges[3 * f]);
-  prefetch(&mesh_.halfedges[3 * f + 2]);
-  prefetch(&mesh_.twin[3 * f]);
-  prefetch(&mesh_.corner_vertex[3 * f]);
-}
-
-// Cache hints for what crossing the list on h reads first: its record and its face. Issued one list ahead
-// by the sequential engine (drain), which asks for the list's windows too.
-void VtpEngine::prefetch_crossing(std::uint32_t h) const {
-  lists_.prefetch_record(h);
-  prefetch_face(face_of(h));
-}
-
-// Cache hints for what the list on h reads once it has crossed: the distances at its face's corners, the
-// opposite corner's records for relaxing it, and the lists, faces and face frames its windows go to (a list
-// reached inside the traversed area most often crosses next). Issued as the list starts to cross, so that
-// they arrive during the pruning and crossing. Reads only the mesh.
-void VtpEngine::prefetch_destinations(std::uint32_t h) const {
-  const std::uint32_t first = h - h % 3;
-  for (std::uint32_t corner = first; corner < first + 3; ++corner) prefetch(&distance_[mesh_.tail(corner)]);
-  const std::uint32_t apex = mesh_.apex(h);
-  prefetch(&arrival_[apex]);
-  prefetch(&state_[apex]);
-  for (const std::uint32_t side : {prev_halfedge(h), next_halfedge(h)}) {
-    const std::uint32_t g = mesh_.twin[side];
-    if (g == kNone) continue;
-    lists_.prefetch_record(g);
-    prefetch(&face_visited_at_[face_of(g)]);
-    prefetch_face(face_of(g));
-  }
+  state_.emit_scheduled[v] = 0;
+  if (state_.lowered_since_emission(v, state_.distance[v])) emit(v);
 }
 
 // Propagates the list entering face(h) through h across that face (paper Section 4). Flattened, like
 // run_vertex_sorted, for the face-sorted variants' sake.
 [[gnu::flatten]] void VtpEngine::cross(std::uint32_t h) {
-  if (lists_.empty(h)) return;
+  if (state_.lists.empty(h)) return;
   ++stats_.list_crossings;
-  prefetch_destinations(h);
+  state_.prefetch_destinations(h);
   // Read in place: nothing below changes the lists until this one is cleared.
   const std::span<const Window> incoming = list_to_cross(h, 0, stats_);
   if (kept_windows_) keep_entering(h, incoming, 0);
-  const bool prime = face_visited_at_[face_of(h)] == iteration_;
+  const bool prime = state_.face_visited_at[face_of(h)] == iteration_;
   ApexReach reach;
   Arrival at_apex;
   to_ac_.clear();
@@ -466,9 +389,9 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
     propagations = cross_list(h, incoming, splits_, to_ac_, to_bc_, reach, at_apex);
   }
   relax(mesh_.apex(h), reach.distance, at_apex);
-  if (targets_.in_faces()) evaluate_targets(h, incoming);
+  if (state_.targets.in_faces()) evaluate_targets(h, incoming);
   (prime ? stats_.prime_propagations : stats_.secondary_propagations) += propagations;
-  lists_.clear(h, 0);
+  state_.lists.clear(h, 0);
   deliver(prev_halfedge(h), to_ac_, mesh_.tail(h), prime);
   deliver(next_halfedge(h), to_bc_, mesh_.head(h), prime);
 }
@@ -476,11 +399,11 @@ void VtpEngine::prefetch_destinations(std::uint32_t h) const {
 // The list entering face(h), ready to cross it: with Rules 2 and 3 on, first pruned as a whole (prune_list)
 // if it gathered several runs of windows (see worth_pruning).
 std::span<const Window> VtpEngine::list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats) {
-  if (worth_pruning(lists_.record(h))) {
+  if (worth_pruning(state_.lists.record(h))) {
     const PhaseTimer timer(options_.collect_timings, stats.pruning_seconds);
-    lists_.shrink_to(h, prune_list(lists_.edit(h), tolerances_), thread);
+    state_.lists.shrink_to(h, prune_list(state_.lists.edit(h), state_.tolerances), thread);
   }
-  return lists_.view(h);
+  return state_.lists.view(h);
 }
 
 // Crosses `incoming`, the list entering face(h), into to_ac and to_bc (splits: scratch space) and returns the
@@ -495,11 +418,11 @@ std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> inc
   EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
   const Window& best = incoming[reach.window];
   at_apex = Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py};
-  const CornerDistances corners = {distance_now(mesh_.tail(h)), distance_now(mesh_.head(h)),
-                                   std::min(distance_now(mesh_.apex(h)), reach.distance)};
+  const CornerDistances corners = {state_.distance_now(mesh_.tail(h)), state_.distance_now(mesh_.head(h)),
+                                   std::min(state_.distance_now(mesh_.apex(h)), reach.distance)};
   return cross_face(incoming, splits, frame, reach, options_.rule1, corners,
                     exit_through(mesh_, prev_halfedge(h), mesh_.tail(h)),
-                    exit_through(mesh_, next_halfedge(h), mesh_.head(h)), tolerances_, to_ac, to_bc);
+                    exit_through(mesh_, next_halfedge(h), mesh_.head(h)), state_.tolerances, to_ac, to_bc);
 }
 
 // Hands windows that crossed to `side` (a halfedge of the face just crossed; their frame has `origin` at
@@ -511,9 +434,9 @@ void VtpEngine::deliver(std::uint32_t side, std::vector<Window>& windows, std::u
   windows.resize(to.count);
   if (to.joining != Joining::inside) {
     if (face_sorted_) queue_face(to.edge, windows);
-    if (!lists_.empty(to.edge)) ++(prime ? stats_.prime_merges : stats_.secondary_merges);
+    if (!state_.lists.empty(to.edge)) ++(prime ? stats_.prime_merges : stats_.secondary_merges);
   }
-  const std::span<Window> list = lists_.extend(to.edge, windows.size(), 0);
+  const std::span<Window> list = state_.lists.extend(to.edge, windows.size(), 0);
   std::copy(windows.begin(), windows.end(), list.end() - static_cast<std::ptrdiff_t>(windows.size()));
   join(list, windows.size(), to.joining);
   if (to.joining == Joining::inside) schedule(to.edge);
@@ -527,12 +450,13 @@ Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> windows, std
   if (g == kNone) return {kNone, Joining::inside, 0};  // a boundary edge: the windows leave the surface
   const bool reversed = mesh_.tail(g) != origin;
   auto kept = windows.end();
-  if (cutoff_ < HUGE_VAL) {
-    const GoalAcross goal = goal_across(g);
-    kept = std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return beyond_cutoff(w, goal); });
+  if (state_.cutoff < HUGE_VAL) {
+    const GoalAcross goal = state_.goal_across(g);
+    kept =
+        std::remove_if(windows.begin(), windows.end(), [&](const Window& w) { return state_.beyond_cutoff(w, goal); });
   }
   Joining joining;
-  if (face_inside(face_of(g)))
+  if (state_.face_inside(face_of(g)))
     joining = Joining::inside;
   else if (prime && options_.rule23)
     joining = Joining::prime_merge;
@@ -548,13 +472,13 @@ Handover VtpEngine::hand_over(std::uint32_t side, std::span<Window> windows, std
 
 // The targets in face(h) through the list entering it, and from its corners (targets.hpp).
 void VtpEngine::evaluate_targets(std::uint32_t h, std::span<const Window> list) {
-  targets_.evaluate_list(mesh_, h, list, cutoff_, targets_changed_);
+  state_.targets.evaluate_list(mesh_, h, list, state_.cutoff, targets_changed_);
   evaluate_targets_from_corners(face_of(h));
 }
 
 void VtpEngine::evaluate_targets_from_corners(std::uint32_t f) {
-  targets_.evaluate_from_corners(
-      mesh_, f, [&](std::uint32_t v) { return distance_now(v); }, cutoff_, targets_changed_);
+  state_.targets.evaluate_from_corners(
+      mesh_, f, [&](std::uint32_t v) { return state_.distance_now(v); }, state_.cutoff, targets_changed_);
 }
 
 // The cut-off: max_distance, lowered to the farthest target's distance once every target has one. A window
@@ -562,7 +486,9 @@ void VtpEngine::evaluate_targets_from_corners(std::uint32_t f) {
 void VtpEngine::update_cutoff() {
   if (!targets_changed_) return;
   targets_changed_ = false;
-  cutoff_ = std::min(options_.max_distance, targets_.points().empty() ? HUGE_VAL : targets_.farthest(mesh_, distance_));
+  state_.cutoff =
+      std::min(options_.max_distance,
+               state_.targets.points().empty() ? HUGE_VAL : state_.targets.farthest(mesh_, state_.distance));
 }
 
 }  // namespace exactgeo::detail

@@ -16,9 +16,6 @@
 // goal-directed runs towards one target (docs/pairs.md).
 #pragma once
 
-#include <array>
-#include <atomic>
-#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -26,21 +23,17 @@
 #include <vector>
 
 #include "arrival.hpp"
+#include "engine_state.hpp"
 #include "exactgeo/geodesic.hpp"
 #include "goal.hpp"
 #include "list_handover.hpp"
-#include "propagation.hpp"
-#include "surface_mesh.hpp"
+#include "parallel_propagation.hpp"
 #include "surface_point.hpp"
-#include "targets.hpp"
 #include "wavefront_queue.hpp"
-#include "windows.hpp"
-#include "worker_pool.hpp"
 
 namespace exactgeo::detail {
 
-struct ParallelState;  // parallel_propagation.hpp
-class FaceWindows;    // face_windows.hpp
+class FaceWindows;  // face_windows.hpp
 
 // A source of a run: a surface vertex (point.vertex set) or a point inside a face or on an edge, and the
 // index of the user's source it stands for.
@@ -69,16 +62,16 @@ class VtpEngine {
 
   // Distances above the cut-off are not final: reported as +inf. Lengths are in the mesh's engine frame
   // (SurfaceMesh::scale_exponent).
-  double cutoff() const { return cutoff_; }
-  std::span<const double> distances() const { return distance_; }  // per surface vertex
-  std::span<const Arrival> arrivals() const { return arrival_; }   // per surface vertex
-  const std::vector<double>& target_distances() const { return targets_.distances(); }
-  const std::vector<Arrival>& target_arrivals() const { return targets_.arrivals(); }
+  double cutoff() const { return state_.cutoff; }
+  std::span<const double> distances() const { return state_.distance; }  // per surface vertex
+  std::span<const Arrival> arrivals() const { return state_.arrival; }   // per surface vertex
+  const std::vector<double>& target_distances() const { return state_.targets.distances(); }
+  const std::vector<Arrival>& target_arrivals() const { return state_.targets.arrivals(); }
   const std::vector<SourceSite>& sources() const { return sources_; }
   // Per surface vertex, the label of the source there, kNone elsewhere (nearest_source.hpp reads them).
-  std::span<const std::uint32_t> source_labels() const { return source_label_; }
+  std::span<const std::uint32_t> source_labels() const { return state_.source_label; }
   const SurfaceMesh& mesh() const { return mesh_; }
-  const std::vector<LocatedPoint>& targets() const { return targets_.points(); }
+  const std::vector<LocatedPoint>& targets() const { return state_.targets.points(); }
   const GeodesicStats& stats() const { return stats_; }
   // The windows the last run kept for queries at any point (GeodesicOptions::keep_windows); null if it kept
   // none, or did not finish.
@@ -88,15 +81,13 @@ class VtpEngine {
   template <class Work>
   void for_parts(std::size_t count, Work&& work) {
     if (threads_ == 1) return work(std::size_t{0}, count);
-    pool_->run(threads_,
-               [&](std::size_t part, unsigned) { work(count * part / threads_, count * (part + 1) / threads_); });
+    parallel_->for_parts(count, work);
   }
 
  private:
-  enum class VertexState : std::uint8_t { unseen, queued, inside };
+  friend class ParallelPropagation;  // the parallel twins of the steps below
 
   void run_vertex_sorted();
-  void run_vertex_sorted_in_bands(unsigned threads);
   void enclose_vertex(std::uint32_t v);
   void move_inside(std::uint32_t v);
   void enter_faces_of(std::uint32_t v);
@@ -108,23 +99,13 @@ class VtpEngine {
   void join_face(std::uint32_t f);
   void start_point_source(std::uint32_t site);
   void relax(std::uint32_t v, double d, const Arrival& arrival);
-  template <class Queue, class EmitAgain>
-  void lower(std::uint32_t v, double d, const Arrival& arrival, bool& targets_changed, Queue&& queue,
-             EmitAgain&& emit_again);
   void push_vertex(std::uint32_t v, double d);
   void queue_face(std::uint32_t g, std::span<const Window> arriving);
   void schedule(std::uint32_t h);
-  bool bends_paths(std::uint32_t v) const { return mesh_.is_pseudo_source[v] || source_label_[v] != kNone; }
-  // Whether distance d of v, inside the traversed area, is enough below the one it emitted at to emit again.
-  bool lowered_since_emission(std::uint32_t v, double d) const { return d < emitted_at_[v] - tolerances_.reemit; }
   void emit(std::uint32_t v);
   void emit_lowered_pseudo_source();
   void drain();
   void cross(std::uint32_t h);
-  void prefetch_faces_of(std::uint32_t v) const;
-  void prefetch_face(std::uint32_t f) const;
-  void prefetch_crossing(std::uint32_t h) const;
-  void prefetch_destinations(std::uint32_t h) const;
   std::span<const Window> list_to_cross(std::uint32_t h, unsigned thread, GeodesicStats& stats);
   // Rule 2 pays where a list gathered windows from several crossings (or pseudo-sources): their runs
   // overlap, and a window is often beaten by one of another run. The windows of one crossing come from a
@@ -139,14 +120,6 @@ class VtpEngine {
 
   Handover hand_over(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime) const;
   void place_new_window(std::uint32_t g, const Window& w);
-  // The goal tests (goal.hpp) with this run's goal, cut-off and tolerance.
-  GoalAcross goal_across(std::uint32_t h) const { return goal_.across(mesh_, h); }
-  bool beyond_cutoff(const Window& w, const GoalAcross& goal) const {
-    return window_beyond_cutoff(w, goal, cutoff_, tolerances_.prune);
-  }
-  bool emission_beyond_cutoff(std::uint32_t v, double d) const {
-    return goal_.emission_beyond_cutoff(mesh_, v, d, cutoff_, tolerances_.prune);
-  }
 
   void evaluate_targets(std::uint32_t h, std::span<const Window> list);
   void evaluate_targets_from_corners(std::uint32_t face);
@@ -155,23 +128,15 @@ class VtpEngine {
   const SurfaceMesh& mesh_;
   GeodesicOptions options_;
   std::function<void(double)> progress_;
-  Tolerances tolerances_{};
   GeodesicStats stats_;
-  double cutoff_ = HUGE_VAL;
-
+  EngineState state_;
   std::vector<SourceSite> sources_;
   unsigned threads_ = 1;  // of the run
-  MeshArray<double> distance_, emitted_at_;
-  MeshArray<Arrival> arrival_;
-  MeshArray<std::uint32_t> source_label_, face_visited_at_;
-  MeshArray<VertexState> state_;
-  MeshArray<std::uint8_t> emit_scheduled_;
   std::uint32_t iteration_ = 0;
   bool face_sorted_ = false, order_preserving_ = false;
-  WindowLists lists_;
-  WavefrontQueue vertex_queue_;                // vertex-sorted variants
-  WavefrontQueue face_queue_;                  // face-sorted variants
-  std::vector<std::uint32_t> faces_to_join_;   // face-sorted: per surface vertex, its faces not yet joined
+  WavefrontQueue vertex_queue_;               // vertex-sorted variants
+  WavefrontQueue face_queue_;                 // face-sorted variants
+  std::vector<std::uint32_t> faces_to_join_;  // face-sorted: per surface vertex, its faces not yet joined
   // Lists scheduled to cross, first in first out: those before pending_front_ have crossed. Emptied whenever
   // every one has, so it holds what one vertex sets moving.
   std::vector<std::uint32_t> pending_;
@@ -179,56 +144,16 @@ class VtpEngine {
   std::vector<std::uint32_t> emit_queue_;
   std::vector<Window> to_ac_, to_bc_;
   std::vector<double> splits_, key_splits_;
+  // With threads above 1 (vertex-sorted): the thread team, kept from run to run, and the bands.
+  std::unique_ptr<ParallelPropagation> parallel_;
 
-  // Parallel propagation (options_.threads > 1, vertex-sorted; parallel_propagation.cpp): the wavefront
-  // advances by bands of vertices, each thread enclosing its share of a band's vertices and crossing the lists
-  // that sets moving. The ..._concurrently twins are the sequential steps under the locks of what they change.
-  std::unique_ptr<WorkerPool> pool_;
-  unsigned pool_asked_ = 0;  // the threads pool_ was asked for: it may have fewer, if the system refused some
-  std::unique_ptr<ParallelState> parallel_;  // of the run under way, if parallel
-  void propagate_band();
-  void propagate_band_on(unsigned thread);
-  bool take_concurrently(std::uint32_t v, unsigned thread);
-  void enclose_concurrently(std::uint32_t v, unsigned thread);
-  void cross_concurrently(std::uint32_t h, unsigned thread);
-  void relax_concurrently(std::uint32_t v, double d, const Arrival& arrival, unsigned thread);
-  void emit_concurrently(std::uint32_t v, unsigned thread);
-  void place_concurrently(std::uint32_t g, const Window& w, unsigned thread);
-  void deliver_concurrently(std::uint32_t side, std::span<Window> windows, std::uint32_t origin, bool prime,
-                            unsigned thread);
-  void schedule_locked(std::uint32_t h, unsigned thread);
-  double distance_now(std::uint32_t v) const;
-  bool face_inside(std::uint32_t f) const;
-
-  RunTargets targets_;
   bool targets_changed_ = false;               // since update_cutoff: the farthest target may have changed
   bool goal_directed_ = false;                 // asked for (set_goal_directed)
-  Goal goal_;                                  // in force for the run under way
   std::unique_ptr<FaceWindows> kept_windows_;  // with keep_windows: every list crossing a face, logged
 };
 
 // The shortest path of the engine's last run to its target `target`, whose distance is finite (path.cpp): to a
 // target at a vertex, through the copy of that input vertex with the smallest distance.
 GeodesicPath trace_to_target(const Mesh& mesh, const VtpEngine& engine, std::size_t target);
-
-// A path of length d, shorter than v's distance, reaches v: the one rule of relax and relax_concurrently, which
-// hold v. Outside the traversed area v is queued (queue()); inside, a pseudo-source lowered enough since it
-// emitted emits again (emit_again()), once however often it is lowered meanwhile. The distance is stored
-// atomically: other threads read it without v's lock (distance_now).
-template <class Queue, class EmitAgain>
-void VtpEngine::lower(std::uint32_t v, double d, const Arrival& arrival, bool& targets_changed, Queue&& queue,
-                      EmitAgain&& emit_again) {
-  if (targets_.at_vertex(v) && distance_[v] >= cutoff_) targets_changed = true;
-  std::atomic_ref<double>(distance_[v]).store(d, std::memory_order_relaxed);
-  arrival_[v] = arrival;
-  if (state_[v] != VertexState::inside) {
-    state_[v] = VertexState::queued;
-    queue();
-  } else if (bends_paths(v) && lowered_since_emission(v, d) && !emit_scheduled_[v]) {
-    // Paper Section 5.2, third scenario: a pseudo-source inside the traversed area got shorter.
-    emit_scheduled_[v] = 1;
-    emit_again();
-  }
-}
 
 }  // namespace exactgeo::detail
