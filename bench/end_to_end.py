@@ -21,7 +21,7 @@ from pathlib import Path
 
 from meshes import kSubdivided, kSubdividedOptIn, select_meshes_or_exit
 from reports.end_to_end import write_markdown
-from reports.files import write_json, write_json_and_markdown
+from reports.files import finish_report, until_interrupted, write_json
 from reports.machine import build_info, report_header
 from solvers.commands import missing_cli_options
 from solvers.end_to_end import add_steps, configuration, kPeerReader, kPeers, whole_runs
@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None) -> None:
         "records": [],
     }
     histories = {run.name: SolverHistory() for run in runs}
-    try:
+    with until_interrupted(report):
         for mesh in meshes:
             sources, records = bench_mesh(mesh, runs, histories, settings, runs_root)
             add_steps(records)
@@ -117,11 +117,7 @@ def main(argv: list[str] | None = None) -> None:
                                      "vertices": mesh.vertex_count, "faces": mesh.face_count, "source": sources[0]})
             report["records"].extend(records)
             write_json(args.results_dir, report)  # what was measured survives a crash on a later mesh
-    except KeyboardInterrupt:
-        print("\ninterrupted: writing the results so far", flush=True)
-        report["interrupted"] = True
-    report["load_average_at_end"] = os.getloadavg()
-    json_path, markdown_path = write_json_and_markdown(args.results_dir, report, write_markdown)
+    json_path, markdown_path = finish_report(args.results_dir, report, write_markdown)
     print(f"\n{markdown_path.read_text()}\nwrote {json_path}, {markdown_path}")
 
 

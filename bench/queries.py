@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
 import subprocess
 import sys
@@ -29,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 import exactgeo
-from reports.files import write_json_and_markdown
+from reports.files import finish_report
 from reports.machine import report_header
 from reports.queries import write_markdown
 from solvers.runner import launcher_floor_bytes
@@ -117,9 +116,8 @@ def main(argv: list[str] | None = None) -> None:
     args.work_dir.mkdir(parents=True, exist_ok=True)
     report = report_header(args, "queries.py", argv, launcher_floor_bytes(args.work_dir))
     report["meshes"] = [bench_mesh(args, name) for name in args.meshes]
-    report["load_average_at_end"] = os.getloadavg()
     args.results_dir.mkdir(parents=True, exist_ok=True)
-    json_path, markdown_path = write_json_and_markdown(args.results_dir, report, write_markdown)
+    json_path, markdown_path = finish_report(args.results_dir, report, write_markdown)
     print(f"wrote {json_path} and {markdown_path}")
 
 

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from meshes import kSubdivided, select_meshes_or_exit
-from reports.files import write_json, write_json_and_markdown
+from reports.files import finish_report, until_interrupted, write_json
 from reports.machine import report_header
 from reports.peers import write_markdown, write_plots
 from solvers.commands import kSolverNames, make_solvers
@@ -120,18 +120,14 @@ def main(argv: list[str] | None = None) -> None:
         "records": [],
     }
     histories = {solver.name: SolverHistory() for solver in solvers}
-    try:
+    with until_interrupted(report):
         for mesh in meshes:
             sources, records = bench_mesh(mesh, solvers, histories, settings, runs_root)
             report["meshes"].append({"name": mesh.name, "path": os.path.relpath(mesh.obj_path, kRepoRoot),
                                      "vertices": mesh.vertex_count, "faces": mesh.face_count, "sources": sources})
             report["records"].extend(records)
             write_json(args.results_dir, report)
-    except KeyboardInterrupt:
-        print("\ninterrupted: writing the results so far", flush=True)
-        report["interrupted"] = True
-    report["load_average_at_end"] = os.getloadavg()
-    json_path, markdown_path = write_json_and_markdown(args.results_dir, report, write_markdown)
+    json_path, markdown_path = finish_report(args.results_dir, report, write_markdown)
     plots = write_plots(args.results_dir, report)
     print(f"\nwrote {json_path}, {markdown_path}, " + ", ".join(str(p) for p in plots))
 

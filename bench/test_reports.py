@@ -16,6 +16,7 @@ from reports import (
     anisotropy,
     distributed,
     end_to_end,
+    files,
     many_sources,
     pairs,
     peers,
@@ -42,3 +43,24 @@ def test_the_markdown_is_what_the_json_says(name, tmp_path):
     written = tmp_path / f"{name}.md"
     kWriters[name].write_markdown(written, json.loads((kResults / f"{name}.json").read_text()))
     assert cells_spaced_alike(written.read_text()) == cells_spaced_alike((kResults / f"{name}.md").read_text())
+
+
+def test_an_interrupted_bench_still_writes_what_it_measured(tmp_path):
+    report = {"name": "partial", "meshes": []}
+    with files.until_interrupted(report):
+        report["meshes"].append("first")
+        raise KeyboardInterrupt
+    json_path, markdown_path = files.finish_report(
+        tmp_path, report, lambda path, written: path.write_text(f"{len(written['meshes'])} mesh\n"))
+    written = json.loads(json_path.read_text())
+    assert written["interrupted"] is True and written["meshes"] == ["first"]
+    assert len(written["load_average_at_end"]) == 3
+    assert markdown_path.read_text() == "1 mesh\n"
+
+
+def test_a_bench_that_runs_through_is_not_marked_interrupted(tmp_path):
+    report = {"name": "whole"}
+    with files.until_interrupted(report):
+        pass
+    json_path, _ = files.finish_report(tmp_path, report, lambda path, written: path.write_text(""))
+    assert "interrupted" not in json.loads(json_path.read_text())

@@ -31,7 +31,7 @@ import numpy as np
 
 from meshes import BenchMesh, kSubdivided, kSubdividedOptIn, select_meshes_or_exit
 from peer_worker import heat_on_used_vertices
-from reports.files import write_json, write_json_and_markdown
+from reports.files import finish_report, until_interrupted, write_json
 from reports.machine import build_info, report_header
 from reports.threads import write_markdown
 from solvers.commands import missing_cli_options
@@ -137,7 +137,7 @@ def main(argv: list[str] | None = None) -> None:
         "timer_records": [],
     }
     histories = {run.name: SolverHistory() for run in runs + timed_runs}
-    try:
+    with until_interrupted(report):
         for mesh in meshes:
             sources, records = bench_mesh(mesh, runs, histories, settings, runs_root)
             timer_records = bench_mesh(mesh, timed_runs, histories, dataclasses.replace(settings, repeat=1),
@@ -152,11 +152,7 @@ def main(argv: list[str] | None = None) -> None:
             report["records"].extend(records)
             report["timer_records"].extend(timer_records)
             write_json(args.results_dir, report)  # what was measured survives a crash on a later mesh
-    except KeyboardInterrupt:
-        print("\ninterrupted: writing the results so far", flush=True)
-        report["interrupted"] = True
-    report["load_average_at_end"] = os.getloadavg()
-    json_path, markdown_path = write_json_and_markdown(args.results_dir, report, write_markdown)
+    json_path, markdown_path = finish_report(args.results_dir, report, write_markdown)
     print(f"\n{markdown_path.read_text()}\nwrote {json_path}, {markdown_path}")
 
 

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 
@@ -21,3 +23,21 @@ def write_json_and_markdown(results_dir: Path, report: dict,
     markdown_path = results_dir / f"{report['name']}.md"
     write_markdown(markdown_path, report)
     return json_path, markdown_path
+
+
+@contextmanager
+def until_interrupted(report: dict) -> Iterator[None]:
+    """Around a bench's loop over its meshes: Ctrl-C ends the loop, and the report says so, so that what was
+    measured until then is still written."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        print("\ninterrupted: writing the results so far", flush=True)
+        report["interrupted"] = True
+
+
+def finish_report(results_dir: Path, report: dict,
+                  write_markdown: Callable[[Path, dict], None]) -> tuple[Path, Path]:
+    """The load average at the end into the report, then NAME.json and NAME.md."""
+    report["load_average_at_end"] = os.getloadavg()
+    return write_json_and_markdown(results_dir, report, write_markdown)
