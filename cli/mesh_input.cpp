@@ -139,7 +139,9 @@ CLI::Option* add_list_option(CLI::App& command, MeshArguments& mesh, const std::
 LoadedMesh load_mesh(const MeshArguments& arguments, const std::optional<unsigned>& threads) {
   const auto start = std::chrono::steady_clock::now();
   const std::optional<BuiltinMesh> builtin = parse_builtin_mesh(arguments.name);
-  exactgeo::MeshSoup soup = builtin ? generate_builtin_mesh(*builtin) : exactgeo::read_mesh_soup(arguments.name);
+  // --threads covers the read as well as the build, as Python's Mesh.load(threads=) does.
+  exactgeo::MeshSoup soup = builtin ? generate_builtin_mesh(*builtin)
+                                    : exactgeo::read_mesh_soup(arguments.name, {.threads = threads.value_or(0)});
   const double read_seconds = seconds_since(start);
   const auto build_start = std::chrono::steady_clock::now();
   exactgeo::Mesh mesh(std::move(soup), {.weld_duplicate_positions = arguments.weld, .threads = threads.value_or(0)});
