@@ -226,23 +226,23 @@ bool TextCursor::next_line() {
 
 bool TextCursor::next_data_line() {
   while (next_line()) {
-    const auto first = std::find_if_not(line_.begin(), line_.end(), is_blank);
-    if (first != line_.end() && (comment_ == '\0' || *first != comment_)) return true;
+    const char* const line_end = line_.data() + line_.size();
+    const char* const first = skip_blanks(line_.data(), line_end);
+    if (first != line_end && (comment_ == '\0' || *first != comment_)) return true;
   }
   return false;
 }
 
 std::string_view TextCursor::next_token() {
-  std::size_t begin = 0;
-  while (begin < line_.size() && is_blank(line_[begin])) ++begin;
-  if (begin == line_.size() || (comment_ != '\0' && line_[begin] == comment_)) {
+  const char* const line_end = line_.data() + line_.size();
+  const char* const begin = skip_blanks(line_.data(), line_end);
+  if (begin == line_end || (comment_ != '\0' && *begin == comment_)) {
     line_ = {};
     return {};
   }
-  std::size_t end = begin;
-  while (end < line_.size() && !is_blank(line_[end])) ++end;
-  const std::string_view token = line_.substr(begin, end - begin);
-  line_.remove_prefix(end);
+  const char* const end = token_end(begin, line_end);
+  const std::string_view token(begin, static_cast<std::size_t>(end - begin));
+  line_.remove_prefix(static_cast<std::size_t>(end - line_.data()));
   return token;
 }
 
