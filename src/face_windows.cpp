@@ -74,28 +74,22 @@ std::uint64_t FaceWindows::bytes(std::size_t halfedge_count) const {
 }
 
 // The rules by which a run evaluates its targets (VtpEngine::evaluate_targets and the sources' own faces; the
-// window and corner steps are targets.hpp's), over everything that entered the point's face during the run.
+// source, window and corner steps are targets.hpp's), over everything that entered the point's face during
+// the run.
 double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> vertex_distance, const LocatedPoint& point,
                           Arrival& arrival) const {
   EXACTGEO_ASSERT(kept_ && point.vertex == kNone);
   const std::uint32_t f = point.face;
   double best = HUGE_VAL;
-  const auto first = std::partition_point(face_sources_.begin(), face_sources_.end(),
-                                          [f](const FaceSource& s) { return s.face < f; });
-  for (auto s = first; s != face_sources_.end() && s->face == f; ++s) {
-    const auto [sx, sy] = position_in_frame(mesh, s->point, 3 * f);
-    const auto [qx, qy] = position_in_frame(mesh, point, 3 * f);
-    const double d = length(qx - sx, qy - sy);
-    if (d < best) {
-      best = d;
-      arrival = Arrival{s->id, 3 * f, std::nan(""), sx, sy};
-    }
-  }
+  const auto first =
+      std::partition_point(face_sources_.begin(), face_sources_.end(), [f](const FaceSource& s) { return s.face < f; });
   auto keep_shortest = [&](double d, const Arrival& reached_by) {
     if (!(d < best)) return;
     best = d;
     arrival = reached_by;
   };
+  for (auto s = first; s != face_sources_.end() && s->face == f; ++s)
+    reach_from_source_in_face(mesh, s->point, s->id, point, keep_shortest);
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
     const auto [qx, qy] = position_in_frame(mesh, point, h);
     for (const Window& w : entering(h)) reach_through_window(w, h, qx, qy, keep_shortest);

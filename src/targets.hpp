@@ -19,7 +19,7 @@
 
 namespace exactgeo::detail {
 
-// The two ways a path reaches a point q inside a face, at (qx, qy) in the frame of h, a halfedge of that face:
+// The ways a path reaches a point q inside a face, at (qx, qy) in the frame of h, a halfedge of that face:
 // the rules of a run's targets (RunTargets) and of the points queried after it (FaceWindows::reach), written
 // once. reached(d, arrival) is called with the path's length and how it arrives, if there is a path.
 //
@@ -40,6 +40,17 @@ void reach_from_corner(const SurfaceMesh& mesh, std::uint32_t h, double at_corne
   const HalfedgeGeometry& g = mesh.halfedges[h];
   const auto [qx, qy] = position_in_frame(mesh, q, h);
   reached(at_corner + length(qx - g.apex_x, qy - g.apex_y), Arrival{mesh.apex(h), h, std::nan(""), g.apex_x, g.apex_y});
+}
+
+// Straight from a source inside the face (or on one of its edges), at `source` in that face and numbered `id`
+// as Arrival::from counts sources, when q is in the same face.
+template <class Reached>
+void reach_from_source_in_face(const SurfaceMesh& mesh, const LocatedPoint& source, std::uint32_t id,
+                               const LocatedPoint& q, Reached&& reached) {
+  const std::uint32_t h = 3 * source.face;
+  const auto [sx, sy] = position_in_frame(mesh, source, h);
+  const auto [qx, qy] = position_in_frame(mesh, q, h);
+  reached(length(qx - sx, qy - sy), Arrival{id, h, std::nan(""), sx, sy});
 }
 
 class RunTargets {

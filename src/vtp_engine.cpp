@@ -268,12 +268,10 @@ void VtpEngine::start_point_source(std::uint32_t site) {
     }
     // Targets in the same face are reached straight.
     if (!state_.targets.in_faces()) continue;
-    const auto [sx, sy] = position_in_frame(mesh_, in_face, 3 * f);
-    for (const std::uint32_t t : state_.targets.in_face(f)) {
-      const auto [qx, qy] = position_in_frame(mesh_, state_.targets.points()[t], 3 * f);
-      state_.targets.offer(t, length(qx - sx, qy - sy), Arrival{id, 3 * f, std::nan(""), sx, sy}, state_.cutoff,
-                           targets_changed_);
-    }
+    for (const std::uint32_t t : state_.targets.in_face(f))
+      reach_from_source_in_face(mesh_, in_face, id, state_.targets.points()[t], [&](double d, const Arrival& arrival) {
+        state_.targets.offer(t, d, arrival, state_.cutoff, targets_changed_);
+      });
   }
 }
 
