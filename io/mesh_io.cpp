@@ -374,6 +374,7 @@ FileBytes read_whole_file(const std::filesystem::path& path, const detail::Paral
   if (info.st_size > 0) {
     bytes.size = static_cast<std::size_t>(info.st_size);
     bytes.data = std::make_unique_for_overwrite<char[]>(bytes.size);
+    detail::advise_huge_pages(bytes.data.get(), bytes.size);
     constexpr std::size_t kBlock = std::size_t{1} << 22;
     const std::size_t blocks = (bytes.size + kBlock - 1) / kBlock;
     std::atomic<int> error{0};  // errno of a failed read, or -1 if the file ended early

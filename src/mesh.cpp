@@ -135,9 +135,8 @@ double SurfaceMesh::to_input_length_scaled(double engine_length) const {
 }  // namespace detail
 
 Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> triangles, const MeshOptions& options)
-    : surface_(detail::build_surface(std::vector<double>(positions.begin(), positions.end()),
-                                     std::vector<std::uint32_t>(triangles.begin(), triangles.end()), options,
-                                     detail::build_threads(options, triangles.size() / 3))) {}
+    : surface_(detail::build_surface(detail::copy_on_huge_pages(positions), detail::copy_on_huge_pages(triangles),
+                                     options, detail::build_threads(options, triangles.size() / 3))) {}
 
 Mesh::Mesh(MeshSoup&& soup, const MeshOptions& options)
     : surface_(detail::build_surface(std::move(soup.positions), std::move(soup.triangles), options,

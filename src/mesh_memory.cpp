@@ -23,6 +23,21 @@ std::size_t mapped_size(std::size_t bytes) { return (bytes + kHugePage - 1) / kH
 
 }  // namespace
 
+void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
+#if defined(__linux__)
+  if (bytes < kMappedBytes) return;
+  // Only the huge pages wholly inside [p, p + bytes): the advice covers whole pages, and the ones at the ends
+  // may hold other allocations.
+  const auto address = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (address + kHugePage - 1) / kHugePage * kHugePage;
+  const std::uintptr_t last = (address + bytes) / kHugePage * kHugePage;
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // a hint: failing is fine
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
 void* allocate_mesh_bytes(std::size_t bytes, std::size_t alignment) {
 #if defined(__linux__)
   if (bytes >= kMappedBytes) {

@@ -56,6 +56,7 @@ class WindowLists {
     if (halfedge_count > lists_.get_deleter().count) {
       lists_.reset();  // the old block goes first: a larger one may take its place
       lists_ = {std::allocator<List>().allocate(halfedge_count), FreeRecords{halfedge_count}};
+      advise_huge_pages(lists_.get(), halfedge_count * sizeof(List));
     }
     for_parts(halfedge_count, [this](std::size_t begin, std::size_t end) {
       std::uninitialized_fill(lists_.get() + begin, lists_.get() + end, List{});
