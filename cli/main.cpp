@@ -31,13 +31,16 @@ int usage_error(std::string_view message) {
   return kExitUsage;
 }
 
-// Arrays of a megabyte and more (a mesh's, the engine's, the build's scratch) are mapped from the system one by
-// one and given back when freed. glibc would otherwise raise its mapping threshold after the first such
-// array is freed and carve later ones from its heap, where what the build frees still counts against the
-// run's memory (400K faces: 2-3 MB of a 128 MB peak).
+// Arrays of 4 MB and more (a mesh's, the engine's, the build's scratch) are mapped from the system one by one
+// and given back when freed: the library maps them itself, in huge pages (mesh_memory.cpp), and this
+// threshold makes glibc do the same for other arrays that large. glibc would otherwise raise its mapping
+// threshold after the first such array is freed and carve later ones from its heap, where what the build
+// frees still counts against the run's memory. Smaller arrays stay on the heap, which hands what the build
+// freed to the next array without faulting in fresh pages: with a 1 MB threshold, nefertiti's build took
+// 10% longer and its read 25% longer, for 0.7% less peak memory.
 void map_large_arrays_apart() {
 #if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  mallopt(M_MMAP_THRESHOLD, 4 << 20);
 #endif
 }
 
