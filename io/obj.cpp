@@ -120,8 +120,8 @@ MeshSoup read_obj(const MeshFile& file, const ParallelTeam& team, std::size_t mi
     before[k + 1].triangles += before[k].triangles;
   }
   MeshSoup soup;
-  resize_on_huge_pages(soup.positions, 3 * before[chunks].vertices);
-  resize_on_huge_pages(soup.triangles, 3 * before[chunks].triangles);
+  resize_on_team(team, soup.positions, 3 * before[chunks].vertices);
+  resize_on_team(team, soup.triangles, 3 * before[chunks].triangles);
   // Pass 2: every chunk parsed into its place; the earliest chunk's error is the file's first.
   for_each_chunk(team, chunks, [&](std::size_t k) { parse_chunk(file, bounds[k], bounds[k + 1], before[k], soup); });
   return soup;

@@ -112,8 +112,8 @@ MeshSoup read_body_in_chunks(const MeshFile& file, const OffCounts& counts, cons
 
   const std::uint64_t rows_read = std::min(chunks.rows_before[chunk_count], counts.rows());
   MeshSoup soup;
-  resize_on_huge_pages(soup.positions, 3 * std::min(rows_read, counts.vertices));
-  resize_on_huge_pages(soup.triangles, 3 * triangles_before[chunk_count]);
+  resize_on_team(team, soup.positions, 3 * std::min(rows_read, counts.vertices));
+  resize_on_team(team, soup.triangles, 3 * triangles_before[chunk_count]);
   for_each_chunk(team, chunk_count, [&](std::size_t k) {
     const auto [first, end] = rows_of(k);
     TextCursor cursor = chunks.cursor(file, '#', k);

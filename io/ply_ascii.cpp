@@ -178,8 +178,8 @@ MeshSoup read_ascii_body_in_chunks(const MeshFile& file, const PlyHeader& header
     return std::clamp(row, first_vertex_row, end_vertex_row) - first_vertex_row;
   };
   MeshSoup soup;
-  resize_on_huge_pages(soup.positions, 3 * vertex_of_row(rows_read));
-  resize_on_huge_pages(soup.triangles, 3 * triangles_before[chunk_count]);
+  resize_on_team(team, soup.positions, 3 * vertex_of_row(rows_read));
+  resize_on_team(team, soup.triangles, 3 * triangles_before[chunk_count]);
   for_each_chunk(team, chunk_count, [&](std::size_t k) {
     const auto [first, end] = rows_of_chunk(k);
     TextCursor cursor = chunks.cursor(file, '\0', k);

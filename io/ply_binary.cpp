@@ -216,8 +216,8 @@ MeshSoup read_binary_body_on_team(const MeshFile& file, const PlyHeader& header,
                                   bool big_endian, const ParallelTeam& team) {
   const BinaryLayout layout = BinaryLocator(file, header, big_endian, team).locate(body_offset);
   MeshSoup soup;
-  resize_on_huge_pages(soup.positions, 3 * layout.vertices);
-  resize_on_huge_pages(soup.triangles, 3 * layout.triangles);
+  resize_on_team(team, soup.positions, 3 * layout.vertices);
+  resize_on_team(team, soup.triangles, 3 * layout.triangles);
   for_each_chunk(team, layout.blocks.size(), [&](std::size_t k) {
     const BinaryBlock& block = layout.blocks[k];
     BinaryBody body(file, block.offset, big_endian);

@@ -85,8 +85,8 @@ MeshSoup read_binary_stl(const MeshFile& file, std::uint32_t triangle_count, con
   team.for_each(corner_count, 1 << 14, [&](std::size_t c) { vertex[c] = first[c] == c; });
   const std::uint64_t vertex_count = exclusive_prefix_sum(team, vertex);
   MeshSoup soup;
-  resize_on_huge_pages(soup.positions, 3 * vertex_count);
-  resize_on_huge_pages(soup.triangles, corner_count);
+  resize_on_team(team, soup.positions, 3 * vertex_count);
+  resize_on_team(team, soup.triangles, corner_count);
   team.for_each(corner_count, 1 << 14, [&](std::size_t c) {
     soup.triangles[c] = vertex[first[c]];
     if (first[c] != c) return;

@@ -65,6 +65,21 @@ unsigned build_threads(const MeshOptions& options, std::size_t face_count) {
 
 }  // namespace
 
+std::shared_ptr<const SurfaceMesh> build_surface_from_copies(std::span<const double> positions,
+                                                             std::span<const std::uint32_t> triangles,
+                                                             const MeshOptions& options) {
+  const unsigned threads = build_threads(options, triangles.size() / 3);
+  std::vector<double> positions_copy;
+  std::vector<std::uint32_t> triangles_copy;
+  {
+    WorkerPool pool(threads);
+    const ParallelTeam team{pool, options.stop};
+    positions_copy = copy_on_team(team, positions);
+    triangles_copy = copy_on_team(team, triangles);
+  }
+  return build_surface(std::move(positions_copy), std::move(triangles_copy), options, threads);
+}
+
 // The build's steps in order, each timed into its field of MeshBuildStats, with the progress reported after
 // each. The weights are the steps' shares of a build on one thread (the 1.6M-face subdivided nefertiti).
 std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions, std::vector<std::uint32_t>&& triangles,
@@ -135,8 +150,7 @@ double SurfaceMesh::to_input_length_scaled(double engine_length) const {
 }  // namespace detail
 
 Mesh::Mesh(std::span<const double> positions, std::span<const std::uint32_t> triangles, const MeshOptions& options)
-    : surface_(detail::build_surface(detail::copy_on_huge_pages(positions), detail::copy_on_huge_pages(triangles),
-                                     options, detail::build_threads(options, triangles.size() / 3))) {}
+    : surface_(detail::build_surface_from_copies(positions, triangles, options)) {}
 
 Mesh::Mesh(MeshSoup&& soup, const MeshOptions& options)
     : surface_(detail::build_surface(std::move(soup.positions), std::move(soup.triangles), options,

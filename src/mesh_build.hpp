@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "exactgeo/mesh.hpp"
@@ -24,6 +25,11 @@ inline constexpr std::size_t kFacesPerBuildThread = 20000;
 // and the mesh's size allow), every pass cut into ranges of `grain` items if set (ParallelTeam).
 std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions, std::vector<std::uint32_t>&& triangles,
                                                  const MeshOptions& options, unsigned threads, std::size_t grain = 0);
+
+// The same from copies of the caller's arrays, made on the build's threads (Mesh's constructor from spans).
+std::shared_ptr<const SurfaceMesh> build_surface_from_copies(std::span<const double> positions,
+                                                             std::span<const std::uint32_t> triangles,
+                                                             const MeshOptions& options);
 
 using Vec3 = std::array<double, 3>;
 

@@ -38,6 +38,23 @@ void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
 #endif
 }
 
+void populate_for_writing(void* p, std::size_t bytes) noexcept {
+#if defined(__linux__)
+#if defined(MADV_POPULATE_WRITE)
+  constexpr int kPopulateWrite = MADV_POPULATE_WRITE;
+#else
+  constexpr int kPopulateWrite = 23;  // Linux's value, for C libraries older than the call (wheels' glibc 2.17)
+#endif
+  constexpr std::uintptr_t kPage = 4096;
+  const auto address = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (address + kPage - 1) / kPage * kPage, last = (address + bytes) / kPage * kPage;
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, kPopulateWrite);  // a hint: failing is fine
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
 void* allocate_mesh_bytes(std::size_t bytes, std::size_t alignment) {
 #if defined(__linux__)
   if (bytes >= kMappedBytes) {

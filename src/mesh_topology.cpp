@@ -208,9 +208,12 @@ void match_edges(const ParallelTeam& team, SurfaceMesh& s, BuildState& state) {
   const std::size_t corner_count = corners.size(), vertex_count = s.input_positions.size() / 3;
   state.corners_of_input_vertex = group_by_keys(team, corners, vertex_count);
   const Groups& corners_of = state.corners_of_input_vertex;
-  s.twin.assign(corner_count, kNone);
+  // Filled on the team: one thread filling fresh memory pays its first touch alone (populate_on_team).
+  s.twin.resize(corner_count);
+  team.for_each(corner_count, kTopologyGrain, [&](std::size_t h) { s.twin[h] = kNone; });
   s.corner_vertex.resize(corner_count);
-  state.fan_count.assign(vertex_count, 0);
+  state.fan_count.resize(vertex_count);
+  team.for_each(vertex_count, kTopologyGrain, [&](std::size_t v) { state.fan_count[v] = 0; });
   struct EdgeCounts {
     std::size_t zero_length = 0, boundary = 0, non_manifold = 0;
   };

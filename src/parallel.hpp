@@ -95,6 +95,38 @@ struct ParallelTeam {
   }
 };
 
+// Faults in the untouched range [p, p + bytes) for writing, parts of it on each of the team's threads, before
+// one thread zeroes or copies into it (a std::vector does so on one thread). Where the system backs memory
+// lazily, the first touch is most of that work: on the virtual machine we measure on, 0.5-0.8 GB/s for memory
+// the process has not touched before against 7 GB/s after.
+inline void populate_on_team(const ParallelTeam& team, void* p, std::size_t bytes) {
+  constexpr std::size_t kPart = std::size_t{2} << 20;
+  if (team.threads() == 1 || bytes < 2 * kPart) return;
+  team.for_ranges((bytes + kPart - 1) / kPart, 1, [&](std::size_t first, std::size_t last) {
+    populate_for_writing(static_cast<char*>(p) + first * kPart, std::min(bytes, last * kPart) - first * kPart);
+  });
+}
+
+// `values`, empty, sized to `count` value-initialised elements in huge pages faulted in on the team.
+template <class T>
+void resize_on_team(const ParallelTeam& team, std::vector<T>& values, std::size_t count) {
+  values.reserve(count);
+  advise_huge_pages(values.data(), count * sizeof(T));
+  populate_on_team(team, values.data(), count * sizeof(T));
+  values.resize(count);
+}
+
+// A copy of `values` in huge pages faulted in on the team.
+template <class T>
+std::vector<T> copy_on_team(const ParallelTeam& team, std::span<const T> values) {
+  std::vector<T> copy;
+  copy.reserve(values.size());
+  advise_huge_pages(copy.data(), values.size_bytes());
+  populate_on_team(team, copy.data(), values.size_bytes());
+  copy.assign(values.begin(), values.end());
+  return copy;
+}
+
 // Turns counts into offsets in place: values[i] becomes the sum of the values before it; returns the total.
 // Summed by ranges on the team, then the ranges' totals once in order.
 template <class Array>

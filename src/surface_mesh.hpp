@@ -31,27 +31,10 @@ void free_mesh_bytes(void* p, std::size_t bytes, std::size_t alignment) noexcept
 // The same for memory from elsewhere (a std::vector of the public API): advises the huge pages inside a
 // large range that nothing has touched yet, so that its first touch faults in 2 MB at a time, not 4 KB.
 void advise_huge_pages(const void* p, std::size_t bytes) noexcept;
-
-// `values` sized to `count` elements, value-initialised; its storage advised into huge pages first when it
-// is empty, so that zeroing it costs no page fault per 4 KB.
-template <class T>
-void resize_on_huge_pages(std::vector<T>& values, std::size_t count) {
-  if (values.empty()) {
-    values.reserve(count);
-    advise_huge_pages(values.data(), count * sizeof(T));
-  }
-  values.resize(count);
-}
-
-// A copy of `values` in storage advised into huge pages.
-template <class T>
-std::vector<T> copy_on_huge_pages(std::span<const T> values) {
-  std::vector<T> copy;
-  copy.reserve(values.size());
-  advise_huge_pages(copy.data(), values.size() * sizeof(T));
-  copy.assign(values.begin(), values.end());
-  return copy;
-}
+// Faults in the pages of an untouched range for writing (Linux 5.14 on; elsewhere, and where it fails, the
+// first write does it), so that threads can share the faulting of an array one thread is about to fill
+// (populate_on_team in parallel.hpp).
+void populate_for_writing(void* p, std::size_t bytes) noexcept;
 
 struct FaceBvh;  // face_bvh.hpp
 
