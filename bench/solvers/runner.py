@@ -311,11 +311,14 @@ def bench_mesh(mesh: BenchMesh, solvers: list[Solver], histories: dict[str, Solv
                           "reason": skipped[solver.name], "runs": []}
             for solver in solvers
         }
-        # Repeats go round the solvers, so a slow drift in machine load spreads over all of them alike.
+        # Repeats go round the solvers, so a slow drift in machine load spreads over all of them alike, every
+        # other round in reverse order: on a virtual machine whose host takes freed memory back, a process that
+        # starts right after another one freed its memory finds pages the host still backs and runs faster
+        # (docs/performance.md), so no solver should always follow the same one.
         pending = list(active)
         repeat = 0
         while pending:
-            for solver in list(pending):
+            for solver in list(pending) if repeat % 2 == 0 else list(reversed(pending)):
                 record = source_records[solver.name]
                 outcome = run_once(solver, mesh, source, repeat, run_dirs[solver.name], settings)
                 record["runs"].append(outcome)
