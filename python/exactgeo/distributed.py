@@ -85,8 +85,13 @@ class StoreStatus:
 
     def rows(self, block: int) -> range:
         """The matrix rows of `block`."""
-        start = block * self.block_rows
-        return range(start, min(start + self.block_rows, self.shape[0]))
+        return _block_rows(block, self.block_rows, self.shape[0])
+
+
+def _block_rows(block: int, block_rows: int, rows: int) -> range:
+    """The rows of `block` in a matrix of `rows` rows cut into blocks of `block_rows` (the last one shorter)."""
+    start = block * block_rows
+    return range(start, min(start + block_rows, rows))
 
 
 # The optional extra: zarr is what readers open the stores with (the store component writes them itself).
@@ -306,8 +311,8 @@ def distance_matrix_to_zarr(
     blocks, rows_per_block = settings["blocks"], settings["block_rows"]
     todo = sorted(set(range(blocks)) - set(done))
     options = {"dtype": dtype, "max_distance": cutoff, "threads": threads, "block_rows": rows_per_block}
-    tasks = {b: (str(path), b, (b * rows_per_block, min((b + 1) * rows_per_block, len(source_array))),
-                 source_array[b * rows_per_block:(b + 1) * rows_per_block], options) for b in todo}
+    ranges = {b: _block_rows(b, rows_per_block, len(source_array)) for b in todo}
+    tasks = {b: (str(path), b, (r.start, r.stop), source_array[r.start:r.stop], options) for b, r in ranges.items()}
 
     reporter = Reporter(progress, "rows")
     rows_total = len(source_array)
@@ -387,8 +392,8 @@ def read_sparse(store: StorePath, rows: slice | range | None = None) -> Any:
     offset = 0
     for block in needed:
         piece_data, piece_indices, piece_ptr = _read_sparse_block(path, block, status.dtype)
-        low = max(start, block * status.block_rows) - block * status.block_rows
-        high = min(stop, (block + 1) * status.block_rows) - block * status.block_rows
+        block_range = status.rows(block)
+        low, high = max(start, block_range.start) - block_range.start, min(stop, block_range.stop) - block_range.start
         a, b = int(piece_ptr[low]), int(piece_ptr[high])
         data.append(piece_data[a:b])
         indices.append(piece_indices[a:b])
