@@ -18,7 +18,12 @@ constexpr std::size_t kHugePage = std::size_t{2} << 20;
 // From this size on an array gets its own mapping: below it, the heap reuses memory that is already mapped.
 constexpr std::size_t kMappedBytes = 2 * kHugePage;
 
-std::size_t mapped_size(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+constexpr std::size_t kPage = 4096;
+
+// The mapping is the array's size in whole small pages, from a huge-page boundary: every huge page wholly
+// inside it can be a huge page, and the tail stays in small ones. (Rounding the size up to huge pages
+// backed up to 2 MB per array that nothing used: 9 MB of a 400K-face run's 132 MB peak.)
+std::size_t mapped_size(std::size_t bytes) { return (bytes + kPage - 1) / kPage * kPage; }
 #endif
 
 }  // namespace
@@ -45,7 +50,6 @@ void populate_for_writing(void* p, std::size_t bytes) noexcept {
 #else
   constexpr int kPopulateWrite = 23;  // Linux's value, for C libraries older than the call (wheels' glibc 2.17)
 #endif
-  constexpr std::uintptr_t kPage = 4096;
   const auto address = reinterpret_cast<std::uintptr_t>(p);
   const std::uintptr_t first = (address + kPage - 1) / kPage * kPage, last = (address + bytes) / kPage * kPage;
   if (last > first) madvise(reinterpret_cast<void*>(first), last - first, kPopulateWrite);  // a hint: failing is fine
@@ -58,8 +62,7 @@ void populate_for_writing(void* p, std::size_t bytes) noexcept {
 void* allocate_mesh_bytes(std::size_t bytes, std::size_t alignment) {
 #if defined(__linux__)
   if (bytes >= kMappedBytes) {
-    // Mapped one huge page larger than needed, then trimmed to a huge-page-aligned range, so that all of it
-    // can be backed by huge pages.
+    // Mapped one huge page larger than needed, then trimmed to start on a huge-page boundary.
     const std::size_t size = mapped_size(bytes);
     void* mapped = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (mapped == MAP_FAILED) throw std::bad_alloc();
