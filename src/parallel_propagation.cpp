@@ -257,7 +257,6 @@ void ParallelPropagation::enclose_concurrently(std::uint32_t v, unsigned thread)
 // (they schedule it again).
 void ParallelPropagation::cross_concurrently(std::uint32_t h, unsigned thread) {
   ParallelState::ThreadScratch& scratch = run_->scratch[thread];
-  state_.prefetch_crossing(h);  // its record and its face, while the lock is taken
   WindowLists::List taken;
   {
     const SpinGuard guard(run_->face_locks[face_of(h)]);
