@@ -107,12 +107,18 @@ inline void populate_on_team(const ParallelTeam& team, void* p, std::size_t byte
   });
 }
 
-// `values`, empty, sized to `count` value-initialised elements in huge pages faulted in on the team.
+// Reserves room for `count` elements in an empty `values`, in huge pages faulted in on the team.
 template <class T>
-void resize_on_team(const ParallelTeam& team, std::vector<T>& values, std::size_t count) {
+void reserve_on_team(const ParallelTeam& team, std::vector<T>& values, std::size_t count) {
   values.reserve(count);
   advise_huge_pages(values.data(), count * sizeof(T));
   populate_on_team(team, values.data(), count * sizeof(T));
+}
+
+// `values`, empty, sized to `count` value-initialised elements in huge pages faulted in on the team.
+template <class T>
+void resize_on_team(const ParallelTeam& team, std::vector<T>& values, std::size_t count) {
+  reserve_on_team(team, values, count);
   values.resize(count);
 }
 
@@ -120,9 +126,7 @@ void resize_on_team(const ParallelTeam& team, std::vector<T>& values, std::size_
 template <class T>
 std::vector<T> copy_on_team(const ParallelTeam& team, std::span<const T> values) {
   std::vector<T> copy;
-  copy.reserve(values.size());
-  advise_huge_pages(copy.data(), values.size_bytes());
-  populate_on_team(team, copy.data(), values.size_bytes());
+  reserve_on_team(team, copy, values.size());
   copy.assign(values.begin(), values.end());
   return copy;
 }
