@@ -20,23 +20,28 @@ constexpr std::size_t kMappedBytes = 2 * kHugePage;
 
 constexpr std::size_t kPage = 4096;
 
+// The first multiple of `page` at or after `value`.
+std::uintptr_t round_up(std::uintptr_t value, std::size_t page) { return (value + page - 1) / page * page; }
+
 // The mapping is the array's size in whole small pages, from a huge-page boundary: every huge page wholly
 // inside it can be a huge page, and the tail stays in small ones. (Rounding the size up to huge pages
 // backed up to 2 MB per array that nothing used: 9 MB of a 400K-face run's 132 MB peak.)
-std::size_t mapped_size(std::size_t bytes) { return (bytes + kPage - 1) / kPage * kPage; }
+std::size_t mapped_size(std::size_t bytes) { return round_up(bytes, kPage); }
+
+// madvise(advice) on the pages of `page` bytes wholly inside [p, p + bytes): the advice covers whole pages,
+// and the ones at the ends may hold other allocations. Advice is a hint: failing is fine.
+void advise_whole_pages(const void* p, std::size_t bytes, std::size_t page, int advice) noexcept {
+  const auto address = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = round_up(address, page), last = (address + bytes) / page * page;
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, advice);
+}
 #endif
 
 }  // namespace
 
 void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
 #if defined(__linux__)
-  if (bytes < kMappedBytes) return;
-  // Only the huge pages wholly inside [p, p + bytes): the advice covers whole pages, and the ones at the ends
-  // may hold other allocations.
-  const auto address = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t first = (address + kHugePage - 1) / kHugePage * kHugePage;
-  const std::uintptr_t last = (address + bytes) / kHugePage * kHugePage;
-  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);  // a hint: failing is fine
+  if (bytes >= kMappedBytes) advise_whole_pages(p, bytes, kHugePage, MADV_HUGEPAGE);
 #else
   (void)p;
   (void)bytes;
@@ -50,9 +55,7 @@ void populate_for_writing(void* p, std::size_t bytes) noexcept {
 #else
   constexpr int kPopulateWrite = 23;  // Linux's value, for C libraries older than the call (wheels' glibc 2.17)
 #endif
-  const auto address = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t first = (address + kPage - 1) / kPage * kPage, last = (address + bytes) / kPage * kPage;
-  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, kPopulateWrite);  // a hint: failing is fine
+  advise_whole_pages(p, bytes, kPage, kPopulateWrite);
 #else
   (void)p;
   (void)bytes;
@@ -67,7 +70,7 @@ void* allocate_mesh_bytes(std::size_t bytes, std::size_t alignment) {
     void* mapped = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (mapped == MAP_FAILED) throw std::bad_alloc();
     const auto address = reinterpret_cast<std::uintptr_t>(mapped);
-    const std::uintptr_t aligned = (address + kHugePage - 1) / kHugePage * kHugePage;
+    const std::uintptr_t aligned = round_up(address, kHugePage);
     if (aligned > address) munmap(mapped, aligned - address);
     const std::uintptr_t tail = aligned + size, mapped_end = address + size + kHugePage;
     if (mapped_end > tail) munmap(reinterpret_cast<void*>(tail), mapped_end - tail);
