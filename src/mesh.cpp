@@ -63,41 +63,22 @@ unsigned build_threads(const MeshOptions& options, std::size_t face_count) {
   return threads_worth(options.threads, face_count, kFacesPerBuildThread);
 }
 
-}  // namespace
-
-std::shared_ptr<const SurfaceMesh> build_surface_from_copies(std::span<const double> positions,
-                                                             std::span<const std::uint32_t> triangles,
-                                                             const MeshOptions& options) {
-  const unsigned threads = build_threads(options, triangles.size() / 3);
-  std::vector<double> positions_copy;
-  std::vector<std::uint32_t> triangles_copy;
-  {
-    WorkerPool pool(threads);
-    const ParallelTeam team{pool, options.stop};
-    positions_copy = copy_on_team(team, positions);
-    triangles_copy = copy_on_team(team, triangles);
-  }
-  return build_surface(std::move(positions_copy), std::move(triangles_copy), options, threads);
-}
-
 // The build's steps in order, each timed into its field of MeshBuildStats, with the progress reported after
-// each. The weights are the steps' shares of a build on one thread (the 1.6M-face subdivided nefertiti).
-std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions, std::vector<std::uint32_t>&& triangles,
-                                                 const MeshOptions& options, unsigned threads, std::size_t grain) {
+// each. The weights are the steps' shares of a build on one thread (the 1.6M-face subdivided nefertiti). The
+// first step, timed with the validation, is take_input(team, surface): it fills input_positions and
+// input_triangles, by a move or by copies made on the team.
+template <class TakeInput>
+std::shared_ptr<const SurfaceMesh> build_from(TakeInput&& take_input, const MeshOptions& options, unsigned threads,
+                                              std::size_t grain) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto s = std::make_shared<SurfaceMesh>();
-  s->input_positions = std::move(positions);
-  s->input_triangles = std::move(triangles);
   MeshBuildStats& stats = s->build_stats;
-  const std::size_t face_count = s->input_triangles.size() / 3;
   stats.threads = threads;
   WorkerPool pool(threads);
   const ParallelTeam team{pool, options.stop, grain};
   BuildState state;
   MeshReport& report = s->report;
-  report.vertices = s->input_positions.size() / 3;
-  report.faces = face_count;
 
   double done = 0;
   auto step_start = start;
@@ -110,7 +91,12 @@ std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions
     throw_if_stopped(options.stop);
     if (options.progress) options.progress(std::min(done, 1.0));
   };
-  step(&MeshBuildStats::validate_seconds, 0.02, [&] { validate_arrays(team, s->input_positions, s->input_triangles); });
+  step(&MeshBuildStats::validate_seconds, 0.02, [&] {
+    take_input(team, *s);
+    validate_arrays(team, s->input_positions, s->input_triangles);
+    report.vertices = s->input_positions.size() / 3;
+    report.faces = s->input_triangles.size() / 3;
+  });
   step(&MeshBuildStats::duplicate_positions_seconds, 0.08, [&] { find_duplicate_positions(team, *s, state); });
   step(&MeshBuildStats::faces_seconds, 0.12,
        [&] { drop_repeated_faces(team, *s, state, options.weld_duplicate_positions); });
@@ -132,6 +118,29 @@ std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions
   report.surface_vertices = s->vertex_count;
   stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return s;
+}
+
+}  // namespace
+
+std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions, std::vector<std::uint32_t>&& triangles,
+                                                 const MeshOptions& options, unsigned threads, std::size_t grain) {
+  return build_from(
+      [&](const ParallelTeam&, SurfaceMesh& s) {
+        s.input_positions = std::move(positions);
+        s.input_triangles = std::move(triangles);
+      },
+      options, threads, grain);
+}
+
+std::shared_ptr<const SurfaceMesh> build_surface_from_copies(std::span<const double> positions,
+                                                             std::span<const std::uint32_t> triangles,
+                                                             const MeshOptions& options) {
+  return build_from(
+      [&](const ParallelTeam& team, SurfaceMesh& s) {
+        s.input_positions = copy_on_team(team, positions);
+        s.input_triangles = copy_on_team(team, triangles);
+      },
+      options, build_threads(options, triangles.size() / 3), 0);
 }
 
 double SurfaceMesh::to_input_length_scaled(double engine_length) const {
