@@ -122,8 +122,9 @@ std::shared_ptr<const SurfaceMesh> build_from(TakeInput&& take_input, const Mesh
 
 }  // namespace
 
-std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions, std::vector<std::uint32_t>&& triangles,
-                                                 const MeshOptions& options, unsigned threads, std::size_t grain) {
+std::shared_ptr<const SurfaceMesh> build_surface(std::vector<double>&& positions,
+                                                 std::vector<std::uint32_t>&& triangles, const MeshOptions& options,
+                                                 unsigned threads, std::size_t grain) {
   return build_from(
       [&](const ParallelTeam&, SurfaceMesh& s) {
         s.input_positions = std::move(positions);
