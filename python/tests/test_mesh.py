@@ -63,6 +63,23 @@ def test_views_are_the_mesh_storage_read_only():
     assert view.sum() == faces.sum()  # the view keeps the mesh alive
 
 
+@pytest.mark.parametrize("cells", [3, 150])  # 150 x 150: built on a worker thread, on the cores
+@pytest.mark.parametrize("index_dtype", [np.int32, np.uint32])
+def test_the_mesh_keeps_its_own_copy_of_the_callers_arrays(cells, index_dtype):
+    # float64 and 32-bit indices reach the library without a conversion in Python: the mesh copies them, so
+    # that writing over the caller's arrays afterwards cannot change it.
+    vertices, faces = exactgeo.make_grid(cells, cells, 2.0, 1.0)
+    vertices, faces = np.ascontiguousarray(vertices, dtype=np.float64), np.ascontiguousarray(faces, dtype=index_dtype)
+    kept_vertices, kept_faces = vertices.copy(), faces.copy()
+    mesh = exactgeo.Mesh(vertices, faces)
+    vertices[:] = 7.0
+    faces[:] = 0
+    np.testing.assert_array_equal(mesh.vertices, kept_vertices)
+    np.testing.assert_array_equal(mesh.faces, kept_faces)
+    far = (cells + 1) ** 2 - 1
+    assert exactgeo.distance(mesh, 0)[far] == pytest.approx(np.hypot(2.0, 1.0), rel=1e-14)
+
+
 def test_report_counts_what_validation_found():
     # Two triangles sharing an edge, one triangle repeating a vertex (dropped), one vertex used by nothing.
     vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [5, 5, 5]]
