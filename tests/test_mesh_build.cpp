@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <stop_token>
 #include <memory>
 #include <optional>
 #include <span>
+#include <stop_token>
 #include <string>
 #include <vector>
 
@@ -138,15 +138,16 @@ TEST(MeshBuild, HeightFieldsBuildTheSameOnAnyTeam) {
 }
 
 // Mesh(positions, triangles) copies the caller's arrays on the build's team (a mesh large enough for three
-// threads, on as many as the machine has): the same surface as a build that takes the arrays over, and the caller's arrays are its own again
-// afterwards: writing over them changes nothing in the mesh.
+// threads, on as many as the machine has): the same surface as a build that takes the arrays over, and the caller's
+// arrays are its own again afterwards: writing over them changes nothing in the mesh.
 TEST(MeshBuild, BuildFromTheCallersArraysKeepsItsOwnCopies) {
   Random random(6007);
   MeshSoup soup = exactgeo_test::random_height_field(random, 180, 180, 0.5, true);
   ASSERT_GE(soup.triangles.size() / 3, 3 * exactgeo::detail::kFacesPerBuildThread);
   const MeshSoup original = soup;
   for (unsigned threads : {1u, 3u}) {
-    const auto copied = exactgeo::detail::build_surface_from_copies(soup.positions, soup.triangles, {.threads = threads});
+    const auto copied =
+        exactgeo::detail::build_surface_from_copies(soup.positions, soup.triangles, {.threads = threads});
     EXPECT_EQ(copied->build_stats.threads, exactgeo::detail::threads_worth(threads, 3, 1));
     std::fill(soup.positions.begin(), soup.positions.end(), 7.0);
     std::fill(soup.triangles.begin(), soup.triangles.end(), 0u);
