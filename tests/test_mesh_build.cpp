@@ -148,7 +148,7 @@ TEST(MeshBuild, BuildFromTheCallersArraysKeepsItsOwnCopies) {
   for (unsigned threads : {1u, 3u}) {
     const auto copied =
         exactgeo::detail::build_surface_from_copies(soup.positions, soup.triangles, {.threads = threads});
-    EXPECT_EQ(copied->build_stats.threads, exactgeo::detail::threads_worth(threads, 3, 1));
+    EXPECT_EQ(copied->build_stats.threads, std::min(threads, exactgeo::detail::threads_or_cores(0)));
     std::fill(soup.positions.begin(), soup.positions.end(), 7.0);
     std::fill(soup.triangles.begin(), soup.triangles.end(), 0u);
     EXPECT_TRUE(same_surface(*build(original, false, threads, 0), *copied)) << threads << " threads";
