@@ -37,41 +37,54 @@ MeshArray<std::uint8_t> compute_face_geometry(const ParallelTeam& team, SurfaceM
   s.halfedges.resize(3 * std::size_t{face_count});
   s.corner_angle.resize(3 * std::size_t{face_count});
   MeshArray<std::uint8_t> degenerate(face_count);
-  s.report.degenerate_faces = team.reduce_ranges(
-      face_count, kGeometryGrain, std::size_t{0},
-      [&](std::size_t first, std::size_t last) {
-        std::size_t degenerate_in_range = 0;
-        for (std::size_t f = first; f < last; ++f) {
-          const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
-                                              s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),
-                                              s.position(s.surface_to_input[s.corner_vertex[3 * f + 2]])};
-          double longest = 0;
-          for (int i = 0; i < 3; ++i) {
-            const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
-            const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
-            const double length = norm(ab);
-            longest = std::max(longest, length);
-            HalfedgeGeometry& g = s.halfedges[3 * f + i];
-            g.length = length;
-            if (length > 0) {
-              g.apex_x = dot(ac, ab) / length;
-              g.apex_y = norm(cross(ac, ab)) / length;
-            } else {  // A and B coincide: place C straight above them, which keeps the unfolding consistent
-              g.apex_x = 0;
-              g.apex_y = norm(ac);
-            }
-            s.corner_angle[3 * f + i] = std::atan2(g.apex_y, g.apex_x);
+  // The faces in blocks of a fixed size, whatever the threads: each block sums its halfedges' lengths in
+  // halfedge order, and the blocks' sums are added in block order, so the mean edge length (the band width
+  // of parallel runs derives from it) is the same on any thread count, and no thread reads the halfedges
+  // again to sum them alone.
+  constexpr std::size_t kBlockFaces = 1 << 10;
+  const std::size_t blocks = (std::size_t{face_count} + kBlockFaces - 1) / kBlockFaces;
+  std::vector<double> block_length(blocks);
+  std::vector<std::size_t> block_degenerate(blocks);
+  team.for_ranges(blocks, kGeometryGrain / kBlockFaces, [&](std::size_t first_block, std::size_t last_block) {
+    for (std::size_t b = first_block; b < last_block; ++b) {
+      std::size_t degenerate_in_block = 0;
+      double length_in_block = 0;
+      for (std::size_t f = b * kBlockFaces; f < std::min<std::size_t>(face_count, (b + 1) * kBlockFaces); ++f) {
+        const std::array<Vec3, 3> corner = {s.position(s.surface_to_input[s.corner_vertex[3 * f]]),
+                                            s.position(s.surface_to_input[s.corner_vertex[3 * f + 1]]),
+                                            s.position(s.surface_to_input[s.corner_vertex[3 * f + 2]])};
+        double longest = 0;
+        for (int i = 0; i < 3; ++i) {
+          const Vec3 ab = sub(corner[(i + 1) % 3], corner[i]);
+          const Vec3 ac = sub(corner[(i + 2) % 3], corner[i]);
+          const double length = norm(ab);
+          longest = std::max(longest, length);
+          length_in_block += length;
+          HalfedgeGeometry& g = s.halfedges[3 * f + i];
+          g.length = length;
+          if (length > 0) {
+            g.apex_x = dot(ac, ab) / length;
+            g.apex_y = norm(cross(ac, ab)) / length;
+          } else {  // A and B coincide: place C straight above them, which keeps the unfolding consistent
+            g.apex_x = 0;
+            g.apex_y = norm(ac);
           }
-          const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
-          degenerate[f] = doubled_area <= kDegenerateAreaRatio * longest * longest;
-          degenerate_in_range += degenerate[f];
+          s.corner_angle[3 * f + i] = std::atan2(g.apex_y, g.apex_x);
         }
-        return degenerate_in_range;
-      },
-      [](std::size_t a, std::size_t b) { return a + b; });
-  // In halfedge order, as one thread sums: the band width of parallel runs derives from it.
+        const double doubled_area = norm(cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
+        degenerate[f] = doubled_area <= kDegenerateAreaRatio * longest * longest;
+        degenerate_in_block += degenerate[f];
+      }
+      block_length[b] = length_in_block;
+      block_degenerate[b] = degenerate_in_block;
+    }
+  });
   double total_length = 0;
-  for (const HalfedgeGeometry& g : s.halfedges) total_length += g.length;
+  s.report.degenerate_faces = 0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    total_length += block_length[b];
+    s.report.degenerate_faces += block_degenerate[b];
+  }
   s.mean_edge_length = total_length / std::max(1.0, 3.0 * face_count);
   return degenerate;
 }

@@ -135,6 +135,23 @@ TEST(MeshBuild, HeightFieldsBuildTheSameOnAnyTeam) {
   for (int i = 0; i < 6; ++i)
     expect_same_on_any_team(exactgeo_test::random_height_field(random, 10 + i, 9, 0.5, i % 2 == 0),
                             "height field " + std::to_string(i));
+  // Several of the geometry's blocks of faces, whose lengths are summed block by block.
+  expect_same_on_any_team(exactgeo_test::random_height_field(random, 61, 37, 0.5, true), "larger height field");
+}
+
+// The mean edge length is summed in blocks of faces on the team: it is still the mean of the halfedges'
+// lengths (to rounding), on any team.
+TEST(MeshBuild, MeanEdgeLengthIsTheMeanOfTheHalfedges) {
+  Random random(3804);
+  const MeshSoup soup = exactgeo_test::random_height_field(random, 61, 37, 0.5, true);
+  for (unsigned threads : {1u, 3u}) {
+    const auto surface = build(soup, false, threads, 0);
+    long double total = 0;
+    for (const exactgeo::detail::HalfedgeGeometry& g : surface->halfedges) total += g.length;
+    const double mean = static_cast<double>(total / static_cast<long double>(surface->halfedges.size()));
+    EXPECT_GT(surface->face_count(), 4000u);
+    EXPECT_NEAR(surface->mean_edge_length, mean, 1e-14 * mean) << threads << " threads";
+  }
 }
 
 // Mesh(positions, triangles) copies the caller's arrays on the build's team (a mesh large enough for three
