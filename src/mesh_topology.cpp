@@ -440,7 +440,7 @@ namespace {
 
 // The faces united across every edge: each set is then one connected piece.
 ConcurrentUnionFind faces_joined_by_edges(const ParallelTeam& team, const SurfaceMesh& s) {
-  ConcurrentUnionFind faces(s.face_count());
+  ConcurrentUnionFind faces(team, s.face_count());
   team.for_each(s.twin.size(), kTopologyGrain, [&](std::size_t h) {
     if (s.twin[h] != kNone && s.twin[h] < h) faces.unite(face_of(static_cast<std::uint32_t>(h)), face_of(s.twin[h]));
   });

@@ -267,8 +267,12 @@ Groups group_by_key(const ParallelTeam& team, std::size_t count, std::size_t gro
 // compare-and-swap, so each set ends with its smallest element as root whatever the order of the unions.
 class ConcurrentUnionFind {
  public:
-  explicit ConcurrentUnionFind(std::size_t count) : parent_(count) {
-    std::iota(parent_.begin(), parent_.end(), 0u);
+  // `count` singletons, set up on the team (one thread writing every parent first would fault the array in alone).
+  ConcurrentUnionFind(const ParallelTeam& team, std::size_t count) : parent_(count) {
+    team.for_ranges(count, 1 << 16, [&](std::size_t begin, std::size_t end) {
+      std::iota(parent_.begin() + static_cast<std::ptrdiff_t>(begin),
+                parent_.begin() + static_cast<std::ptrdiff_t>(end), static_cast<std::uint32_t>(begin));
+    });
   }
 
   std::uint32_t find(std::uint32_t x) {
@@ -300,7 +304,7 @@ class ConcurrentUnionFind {
 
  private:
   std::uint32_t load(std::uint32_t x) { return std::atomic_ref(parent_[x]).load(std::memory_order_relaxed); }
-  std::vector<std::uint32_t> parent_;
+  MeshArray<std::uint32_t> parent_;
 };
 
 }  // namespace exactgeo::detail
