@@ -206,13 +206,21 @@ TEST(CrossingQueues, AHungryThreadGetsTheOlderHalfOfAnothersLists) {
   ASSERT_TRUE(queues.join());
   for (std::uint32_t list = 0; list < 10; ++list) queues.push(0, list);
   std::vector<std::uint32_t> fed;
+  std::atomic<bool> was_fed{false}, done_feeding{false};
   std::thread hungry([&] {
     EXPECT_TRUE(queues.wait_for_lists(1, 0));
+    was_fed = true;
     for (std::uint32_t list; queues.pop(1, list);) fed.push_back(list);
+    while (!done_feeding) std::this_thread::yield();  // hungry again only once thread 0 has stopped feeding
     EXPECT_FALSE(queues.wait_for_lists(1, 0));  // over once thread 0 is hungry too
   });
-  while (!queues.anyone_hungry()) std::this_thread::yield();
-  queues.feed_hungry(0);
+  // A waiting thread is counted hungry before its own flag says so, and feed_hungry passes it over until then;
+  // the engine offers again after every crossing, and so does this loop until the thread has been fed.
+  while (!was_fed) {
+    queues.feed_hungry(0);
+    std::this_thread::yield();
+  }
+  done_feeding = true;
   std::vector<std::uint32_t> kept;
   for (std::uint32_t list; queues.pop(0, list);) kept.push_back(list);
   EXPECT_FALSE(queues.wait_for_lists(0, 0));
