@@ -203,7 +203,7 @@ GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const std::uint32_t
                                  const GeodesicOptions& options) {
   GeodesicSolver solver(mesh);
   solver.solve(source_vertices, {}, options);
-  return std::move(solver.result_);
+  return std::move(solver).result();
 }
 
 GeodesicResult geodesic_distance(const Mesh& mesh, std::uint32_t source_vertex, const GeodesicOptions& options) {
@@ -214,7 +214,7 @@ GeodesicResult geodesic_distance(const Mesh& mesh, std::span<const SurfacePoint>
                                  const GeodesicOptions& options) {
   GeodesicSolver solver(mesh);
   solver.solve(sources, {}, options);
-  return std::move(solver.result_);
+  return std::move(solver).result();
 }
 
 }  // namespace exactgeo

@@ -275,4 +275,29 @@ TEST(KeptWindowsErrors, QueriesNeedARunThatKeptItsWindowsAndValidPoints) {
   expect_error_naming([&] { solver.path_to_point(point); }, "keep_windows");
 }
 
+// std::move(solver).result() hands the run's arrays over (the same storage, not a copy) and leaves the solver as
+// before any run: its queries say so, and it runs again.
+TEST(SolverResult, HandedOverItIsTheRunsAndTheSolverIsAsBeforeAnyRun) {
+  const Mesh mesh(exactgeo::make_grid(4, 4, 1.0, 1.0));
+  GeodesicSolver solver(mesh);
+  const SurfacePoint target{3, {0.2, 0.3, 0.5}};
+  const std::vector<std::uint32_t> sources = {0, 24};
+  const exactgeo::GeodesicResult copy = solver.solve(sources, std::span(&target, 1), {.keep_windows = true});
+  const double* storage = solver.result().distances.data();
+  const exactgeo::GeodesicResult handed = std::move(solver).result();
+  EXPECT_EQ(handed.distances.data(), storage);
+  EXPECT_EQ(handed.distances, copy.distances);
+  EXPECT_EQ(handed.nearest_source, copy.nearest_source);
+  EXPECT_EQ(handed.target_distances, copy.target_distances);
+  EXPECT_EQ(handed.target_nearest_source, copy.target_nearest_source);
+  EXPECT_EQ(handed.stats.window_propagations, copy.stats.window_propagations);
+  EXPECT_TRUE(solver.result().distances.empty());
+  EXPECT_TRUE(solver.result().target_distances.empty());
+  expect_error_naming([&] { solver.path_to_vertex(5); }, "solve first");
+  expect_error_naming([&] { solver.path_to_target(0); }, "out of range");
+  expect_error_naming([&] { solver.distance_at(std::span(&target, 1)); }, "distance_at needs the windows");
+  EXPECT_EQ(solver.solve(sources, std::span(&target, 1), {}).distances, copy.distances);
+  EXPECT_EQ(solver.path_to_vertex(5).length, copy.distances[5]);
+}
+
 }  // namespace

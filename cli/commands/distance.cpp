@@ -212,10 +212,10 @@ int run_distance(const DistanceArguments& arguments) {
     solver.set_progress([&](double fraction) {
       progress.update(static_cast<std::size_t>(fraction * static_cast<double>(mesh.vertex_count())));
     });
-    exactgeo::GeodesicResult solved = solve(solver, sources, targets, options);
+    solve(solver, sources, targets, options);
     progress.finish();
     if (!query_points.empty()) query_distances = solver.distance_at(query_points);
-    return solved;
+    return std::move(solver).result();
   }();
   if (exact_targets)
     for (std::size_t v = 0; v < result.distances.size(); ++v)

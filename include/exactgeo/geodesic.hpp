@@ -260,7 +260,15 @@ class EXACTGEO_API GeodesicSolver {
   // source at every copy.
   const GeodesicResult& solve(std::span<const std::uint32_t> source_vertices,
                               std::span<const SurfacePoint> targets = {}, const GeodesicOptions& options = {});
-  const GeodesicResult& result() const { return result_; }
+  const GeodesicResult& result() const& { return result_; }
+  // The last run's result handed over, not copied (`std::move(solver).result()`), for a caller done with the
+  // solver: at a million vertices a copy is some 12 MB more at once. The solver is left as before any run
+  // (path and point queries throw until it solves again).
+  GeodesicResult result() && {
+    GeodesicResult handed = std::move(result_);
+    result_ = {};
+    return handed;
+  }
 
   // Called now and then during each run, on the calling thread, with the fraction of the mesh's vertices
   // that the wavefront has passed (0 to 1). Empty: no calls.
@@ -285,9 +293,6 @@ class EXACTGEO_API GeodesicSolver {
   const detail::FaceWindows& kept_windows(const char* query) const;
   const GeodesicResult& run(std::span<const detail::SourceSite> sites, std::span<const SurfacePoint> targets,
                             const GeodesicOptions& options);
-  // The one-off queries hand over the solver's result instead of copying it.
-  friend GeodesicResult geodesic_distance(const Mesh&, std::span<const std::uint32_t>, const GeodesicOptions&);
-  friend GeodesicResult geodesic_distance(const Mesh&, std::span<const SurfacePoint>, const GeodesicOptions&);
 
   const Mesh* mesh_;
   std::unique_ptr<detail::VtpEngine> engine_;
