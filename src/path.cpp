@@ -215,6 +215,7 @@ class PathBuilder {
 
   // The point at x on halfedge e, away from its ends.
   void add_edge_point(std::uint32_t e, double x) {
+    piece_edge_points_.push_back({e, x});
     const double t = x / surface_.halfedges[e].length;
     PathPointLocation location;
     location.kind = PathPointLocation::Kind::edge;
@@ -256,6 +257,28 @@ class PathBuilder {
     return kNone;
   }
 
+  // The end of a piece at vertex v. The edge points just before it on edges at v, a few snapping distances from
+  // v or less, go: they come from rounding in the pseudo-source's unfolded position, which lies beside v by up to
+  // about 1e-10 of the mesh's size after many faces (an offset across the ray, which changes the distance by its
+  // square only), and tips the ray across an edge at v just short of it. Such a point is a kink that made the
+  // path longer than its distance by up to its offset (4e-11 on a height field whose ray ran along a row of
+  // vertices, tests/test_fuzz.cpp). Without it the path goes straight on to v, inside the face that holds both
+  // the point before and v (it has the dropped point's edge, which is at v).
+  std::uint32_t end_piece_at(std::uint32_t v) {
+    const double near = kPathPieceTolerance * surface_.length_scale;
+    while (!piece_edge_points_.empty()) {
+      const auto [e, x] = piece_edge_points_.back();
+      const double gap = surface_.tail(e) == v   ? x
+                         : surface_.head(e) == v ? surface_.halfedges[e].length - x
+                                                 : HUGE_VAL;
+      if (!(gap <= near)) break;
+      piece_edge_points_.pop_back();
+      path_.points.pop_back();
+      path_.locations.pop_back();
+    }
+    return v;
+  }
+
   // One straight piece: from the point the arrival reaches back towards the arrival's pseudo-source, adding
   // every point where it crosses an edge, and the pseudo-source itself when it is a point source. Returns the
   // vertex where the piece ends (kNone at a point source): the pseudo-source, or the first vertex the piece
@@ -271,6 +294,7 @@ class PathBuilder {
     const auto ends_at = [&](std::uint32_t v) {
       return v != kNone && std::find(pass.begin(), pass.end(), v) == pass.end();
     };
+    piece_edge_points_.clear();
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
     if (std::isnan(arrival.crossing)) {  // straight to a corner or a source inside the face
@@ -282,7 +306,8 @@ class PathBuilder {
     else if (v == kNone)
       add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
-    if (norm(source - entry) <= eps_) return pseudo_source;  // the pseudo-source is where the piece crosses
+    if (norm(source - entry) <= eps_)  // the pseudo-source is where the piece crosses
+      return pseudo_source == kNone ? kNone : end_piece_at(pseudo_source);
     // Walk face by face: enter the face across h at `entry`, heading for `source` beyond it.
     const std::size_t limit = 2 * surface_.halfedges.size() + 8;
     for (std::size_t step = 0; step < limit; ++step) {
@@ -291,7 +316,7 @@ class PathBuilder {
       entry = to_twin(surface_, h, entry);
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
-      if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return corner;
+      if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner);
       // Inside the face (or on its far edges): a source point.
       const double area = cross(c[1] - c[0], c[2] - c[0]);
       const double w_head = cross(source - c[0], c[2] - c[0]), w_apex = cross(c[1] - c[0], source - c[0]);
@@ -312,13 +337,13 @@ class PathBuilder {
       // A shortest path cannot leave the surface: a piece that seems to cross a boundary side runs along it
       // (a ray grazing the border, tipped out by rounding), through the side's end in the direction it goes,
       // which is the first vertex it runs through.
-      if (surface_.twin[side] == kNone) return s.x >= e.x ? surface_.head(side) : surface_.tail(side);
+      if (surface_.twin[side] == kNone) return end_piece_at(s.x >= e.x ? surface_.head(side) : surface_.tail(side));
       // Where the segment e -> s meets the side's line (y = 0).
       const double along = s.y != e.y ? e.x + (s.x - e.x) * (e.y / (e.y - s.y)) : e.x;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);
       // At a vertex to pass (which a ray grazing it leaves this face at), on across the side, around the vertex.
       if (const std::uint32_t v = vertex_at(side, x); ends_at(v))
-        return v;
+        return end_piece_at(v);
       else if (v == kNone)
         add_edge_point(side, x);
       entry = {x, 0};
@@ -333,6 +358,8 @@ class PathBuilder {
   const VtpEngine& engine_;
   const double eps_;
   GeodesicPath path_;
+  // The edge points the piece being traced added (halfedge, place along it), last at the back.
+  std::vector<std::pair<std::uint32_t, double>> piece_edge_points_;
 };
 
 // The path to `point`, a point of the last run's surface inside a face or on an edge, whose last straight
