@@ -13,7 +13,9 @@
 // contain: vertices doubled in place (zero-length edges), bowties, books of pages and fins, where vertex targets
 // and paths must agree with the per-vertex output, on one thread and on several. A third
 // (Fuzz.ThinTrianglesOnThreadsAgreeWithOneThread) holds several threads to one thread's distances on
-// triangles up to 10^4 times longer than wide.
+// triangles up to 10^4 times longer than wide. A fourth (Fuzz.PointQueriesPairsAndLocateAgreeWithTargetRuns)
+// holds the answers at any surface point (kept windows, pair_distances, locate) to runs with those points as
+// targets and to a brute-force closest point.
 // The default run takes a few seconds. EXACTGEO_FUZZ_CASES sets the number of cases of each test (`make fuzz`
 // runs 20000) and EXACTGEO_FUZZ_SEED the first seed: a failure names its seed, and
 // EXACTGEO_FUZZ_SEED=S EXACTGEO_FUZZ_CASES=1 runs that case alone.
@@ -30,9 +32,11 @@
 #include <string>
 #include <vector>
 
+#include "closest_point_reference.hpp"
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
 #include "exactgeo/mesh.hpp"
+#include "exactgeo/pairs.hpp"
 #include "exactgeo/shapes.hpp"
 #include "exactgeo/surface_point.hpp"
 #include "test_meshes.hpp"
@@ -321,10 +325,13 @@ std::vector<double> pieces_distances(const JunctionCase& c, std::uint32_t source
   return expected;
 }
 
-// Both +inf, or within kExact of each other.
-bool same_distance(double a, double b, double largest) {
-  return (std::isinf(a) && std::isinf(b)) || std::abs(a - b) <= kExact * largest;
+// Both +inf, or within `tolerance` of each other.
+bool within(double a, double b, double tolerance) {
+  return (std::isinf(a) && std::isinf(b)) || std::abs(a - b) <= tolerance;
 }
+
+// Both +inf, or within kExact of each other.
+bool same_distance(double a, double b, double largest) { return within(a, b, kExact * largest); }
 
 // A path that must have length `distance` and end at input vertex `vertex`; "" if it does. The length is held
 // to kJunctionPathLength of the distance, and no closer than a few units in the last place of the largest
@@ -478,16 +485,23 @@ TEST(Fuzz, CoincidentVerticesAndNonManifoldJunctions) {
 constexpr std::uint64_t kDefaultThinCases = 24;
 constexpr double kThreadsAgreement = 1e-14;
 
-bool check_thin_seed(std::uint64_t seed) {
-  Random random(seed);
+// A height field of 6 to 24 cells a side stretched along one axis by `stretch` (10 to 10^4), sheared, turned.
+MeshSoup random_thin_height_field(Random& random, double& stretch) {
   const int nx = 6 + static_cast<int>(random.below(19)), ny = 6 + static_cast<int>(random.below(19));
   MeshSoup soup = exactgeo_test::random_height_field(random, nx, ny, random.uniform(0.02, 0.3), random.below(2) != 0);
-  const double stretch = std::pow(10.0, random.uniform(1, 4)), shear = random.uniform(-0.5, 0.5);
+  stretch = std::pow(10.0, random.uniform(1, 4));
+  const double shear = random.uniform(-0.5, 0.5);
   for (std::size_t i = 0; i < soup.positions.size(); i += 3) {
     soup.positions[i] = (soup.positions[i] + shear * soup.positions[i + 1]) * stretch;
     if (random.below(2)) std::swap(soup.positions[i], soup.positions[i + 1]);  // thin across or along
   }
-  soup = exactgeo_test::randomly_rotated(std::move(soup), random);
+  return exactgeo_test::randomly_rotated(std::move(soup), random);
+}
+
+bool check_thin_seed(std::uint64_t seed) {
+  Random random(seed);
+  double stretch;
+  const MeshSoup soup = random_thin_height_field(random, stretch);
   const Mesh mesh(soup);
   const std::uint32_t source = exactgeo_test::random_source_vertex(soup, seed);
   Failures failures;
@@ -527,6 +541,179 @@ bool check_thin_seed(std::uint64_t seed) {
 
 TEST(Fuzz, ThinTrianglesOnThreadsAgreeWithOneThread) {
   check_seeds("thin-triangle", kDefaultThinCases, check_thin_seed);
+}
+
+// ---- Any surface point: kept windows, pairs, locate --------------------------------------------------------
+
+// The services that answer at points no run named beforehand, on the random families of the first test and
+// the thin triangles of the third (a third of them scaled by 10^-200 to 10^200), from a vertex or from one to
+// three points anywhere on the surface, under a random variant on 1 to 3 threads:
+// - distance_at after a run that kept its windows equals a run with the points as targets (kQueries of the
+//   largest distance), and path_to_point and path_to_target are as long and end at the point;
+// - pair_distances equals, pair by pair, a run from the pair's first point with its second as the target
+//   (kQueries of the distance), and its paths are as long;
+// - locate puts each point of a random cloud (on, near and far from the surface) where a brute-force search
+//   does, and a point of the surface back where it was, at the same geodesic distance.
+// Not yet on the junction meshes of the second test: there, points inside their zero-area faces (the stitches
+// of the vertices doubled in place) get distances too long as sources (seed 27 of a run over them: the
+// point's own face places only windows along its collapsed edges, so paths leave through its corners) and
+// fail to trace as targets, and paths from corners at doubled vertices fail to trace (seed 860). Points on
+// an edge cut at a non-manifold junction are a different point on each side, so the locate round trip does
+// not hold there.
+constexpr std::uint64_t kDefaultPointCases = 60;
+constexpr double kQueries = 1e-14;  // what distance_at and pair_distances promise against targets-mode runs
+
+// Where a surface point lies in space.
+std::array<double, 3> position_of(const MeshSoup& soup, const exactgeo::SurfacePoint& point) {
+  std::array<double, 3> p = {0, 0, 0};
+  for (int k = 0; k < 3; ++k)
+    for (int axis = 0; axis < 3; ++axis)
+      p[axis] += point.barycentric[k] * soup.positions[3 * soup.triangles[3 * point.face + k] + axis];
+  return p;
+}
+
+// A path that must have length `distance` and end at `end`, with every point finite; "" if it does. Its
+// points carry the rounding of their coordinates (magnitude up to `coordinates`) and of the faces' frames
+// they are unfolded in (kRounding of the mesh's `diagonal`): a path from a point on an edge to itself (a pair
+// (p, p)) starts where the other face of the edge puts p, 1e-15 away at unit size (seeds 81856 and 84306),
+// up to 1e-13 of a face's size away (seed 10069).
+std::string point_path_fault(const exactgeo::GeodesicPath& path, double distance, const std::array<double, 3>& end,
+                             double coordinates, double diagonal) {
+  if (std::isinf(distance)) return path.points.empty() ? "" : "a path to an unreachable point";
+  const double rounding = 16 * std::numeric_limits<double>::epsilon() * coordinates + kRounding * diagonal;
+  if (!(std::abs(path.length - distance) <= kPathLength * distance + rounding))
+    return "path length " + number(path.length) + ", distance " + number(distance);
+  for (const auto& point : path.points)
+    if (!std::isfinite(point[0]) || !std::isfinite(point[1]) || !std::isfinite(point[2]))
+      return "a path point not finite";
+  if (path.points.empty() || exactgeo_test::distance(path.points.back(), end) > 1e-9 * diagonal)
+    return "the path does not end at the point";
+  return "";
+}
+
+bool check_point_seed(std::uint64_t seed) {
+  Random random(seed);
+  FuzzCase c;
+  if (random.below(4) == 0) {
+    double stretch;
+    c.soup = random_thin_height_field(random, stretch);
+    c.family = "height field stretched " + number(stretch) + " times";
+  } else {
+    c = random_case(random);
+  }
+  if (random.below(3) == 0) {
+    const int exponent = static_cast<int>(random.below(401)) - 200;
+    for (double& x : c.soup.positions) x *= std::pow(10.0, exponent);
+    c.family += ", scaled by 1e" + std::to_string(exponent);
+  }
+  const MeshSoup& soup = c.soup;
+  const Mesh mesh(soup);
+  const double diagonal = exactgeo_test::closest_point::bounds_of(soup).diagonal();
+  double coordinates = 0;
+  for (const double x : soup.positions) coordinates = std::max(coordinates, std::abs(x));
+  const auto& [algorithm, name] = exactgeo::kAlgorithmNames[random.below(exactgeo::kAlgorithmNames.size())];
+  GeodesicOptions options{.algorithm = algorithm,
+                          .rule1 = random.below(4) != 0,
+                          .rule23 = random.below(4) != 0,
+                          .threads = 1 + static_cast<unsigned>(random.below(3))};
+  std::vector<exactgeo::SurfacePoint> sources;
+  if (random.below(2) == 0) {
+    sources.push_back(exactgeo::vertex_point(mesh, exactgeo_test::random_source_vertex(soup, random.below(1u << 30))));
+  } else {
+    for (std::size_t i = 0, count = 1 + random.below(3); i < count; ++i)
+      sources.push_back(exactgeo_test::random_face_point(soup, random, static_cast<int>(random.below(3))));
+  }
+  // Inside faces, a third on edges, every fifth at a corner.
+  std::vector<exactgeo::SurfacePoint> points;
+  for (int i = 0; i < 40; ++i)
+    points.push_back(exactgeo_test::random_face_point(soup, random, i % 5 == 4 ? 2 : i % 3 == 0 ? 1 : 0));
+  const std::string variant =
+      exactgeo_test::variant_label(options) + ", " + std::to_string(sources.size()) + " source points: ";
+  Failures failures;
+  try {
+    exactgeo::GeodesicSolver targeted(mesh);
+    const std::vector<double> expected = targeted.solve(sources, points, options).target_distances;
+    exactgeo::GeodesicSolver kept(mesh);
+    GeodesicOptions keeping = options;
+    keeping.keep_windows = true;
+    const double largest = exactgeo_test::max_finite(kept.solve(sources, {}, keeping).distances);
+    const std::vector<double> at = kept.distance_at(points);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::string where =
+          variant + "point " + std::to_string(i) + " (face " + std::to_string(points[i].face) + "): ";
+      if (!within(at[i], expected[i], kQueries * largest)) {
+        failures.add(where + "distance_at " + number(at[i]) + ", as a target " + number(expected[i]));
+        continue;
+      }
+      const std::array<double, 3> end = position_of(soup, points[i]);
+      if (const std::string fault = point_path_fault(kept.path_to_point(points[i]), at[i], end, coordinates, diagonal);
+          !fault.empty())
+        failures.add(where + "path_to_point: " + fault);
+      if (const std::string fault =
+              point_path_fault(targeted.path_to_target(i), expected[i], end, coordinates, diagonal);
+          !fault.empty())
+        failures.add(where + "path_to_target: " + fault);
+    }
+
+    // Pairs among the points, each against a run from its first point with the second as the target.
+    std::vector<exactgeo::SurfacePoint> a, b;
+    for (int i = 0; i < 6; ++i) {
+      a.push_back(points[random.below(points.size())]);
+      b.push_back(points[random.below(points.size())]);
+    }
+    GeodesicOptions one_search = options;
+    one_search.threads = 1;
+    const exactgeo::PairResult pairs = exactgeo::pair_distances(
+        mesh, a, b,
+        {.geodesic = one_search, .threads = 1 + static_cast<unsigned>(random.below(3)), .return_paths = true});
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string where = variant + "pair " + std::to_string(i) + " (faces " + std::to_string(a[i].face) + ", " +
+                                std::to_string(b[i].face) + "): ";
+      exactgeo::GeodesicSolver reference(mesh);
+      const double distance = reference.solve(std::span(&a[i], 1), std::span(&b[i], 1), one_search).target_distances[0];
+      if (!within(pairs.distances[i], distance, kQueries * distance)) {
+        failures.add(where + "pair_distances " + number(pairs.distances[i]) + ", as a target " + number(distance));
+        continue;
+      }
+      if (const std::string fault =
+              point_path_fault(pairs.paths[i], pairs.distances[i], position_of(soup, b[i]), coordinates, diagonal);
+          !fault.empty())
+        failures.add(where + "path: " + fault);
+    }
+
+    // A cloud of points located as by brute force; and the query points, located from their positions,
+    // land where they were, at their distance.
+    const std::vector<double> cloud = exactgeo_test::closest_point::random_points(soup, 24, seed);
+    if (const auto check =
+            exactgeo_test::closest_point::check_against_brute_force(soup, cloud, exactgeo::locate(mesh, cloud));
+        !check.fault.empty())
+      failures.add("locate: " + check.fault);
+    std::vector<double> on_surface;
+    for (const exactgeo::SurfacePoint& point : points) {
+      const std::array<double, 3> p = position_of(soup, point);
+      on_surface.insert(on_surface.end(), p.begin(), p.end());
+    }
+    const exactgeo::LocateResult back = exactgeo::locate(mesh, on_surface);
+    const std::vector<double> back_at = kept.distance_at(back.points);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::string where = variant + "point " + std::to_string(i) + " located back: ";
+      if (!(back.distances[i] <= 1e-12 * diagonal))
+        failures.add(where + number(back.distances[i]) + " off the surface");
+      else if (!within(back_at[i], at[i], kRounding * std::max(largest, diagonal)))
+        failures.add(where + "distance " + number(back_at[i]) + ", where it was " + number(at[i]));
+    }
+  } catch (const exactgeo::Error& error) {
+    failures.add(variant + "exactgeo::Error " + error.what());
+  }
+  if (failures.count() == 0) return true;
+  ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
+                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
+                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz.PointQueriesPairsAndLocateAgreeWithTargetRuns";
+  return false;
+}
+
+TEST(Fuzz, PointQueriesPairsAndLocateAgreeWithTargetRuns) {
+  check_seeds("point-query", kDefaultPointCases, check_point_seed);
 }
 
 // Found by `make fuzz` (40,000 cases): paths 4e-11 (seed 13198: a 6x7 height field whose ray runs along a row

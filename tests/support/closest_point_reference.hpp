@@ -39,7 +39,10 @@ inline RealVec along(const RealVec& from, const RealVec& direction, Real t) {
   return {from[0] + t * direction[0], from[1] + t * direction[1], from[2] + t * direction[2]};
 }
 inline Vec3 to_double(const RealVec& v) { return {double(v[0]), double(v[1]), double(v[2])}; }
-inline double length(const RealVec& v) { return double(std::sqrt(dot(v, v))); }
+inline Real real_length(const RealVec& v) { return std::sqrt(dot(v, v)); }
+inline double length(const RealVec& v) { return double(real_length(v)); }
+// |a - b|, without the underflow of squares of doubles (lengths below 1e-154) or their overflow (above 1e154).
+inline double distance_apart(const Vec3& a, const Vec3& b) { return length(minus(real(a), real(b))); }
 
 struct Reference {
   double distance = HUGE_VAL;
@@ -121,13 +124,13 @@ class BruteForce {
     for (std::uint32_t f = 0; f < kept_.size(); ++f) {
       if (!kept_[f]) continue;
       const std::array<Vec3, 3> c = corners(f);
-      Vec3 center;
-      for (int k = 0; k < 3; ++k) center[k] = (c[0][k] + c[1][k] + c[2][k]) / 3;
-      double radius = 0;
-      for (const Vec3& corner : c) radius = std::max(radius, exactgeo_test::distance(center, corner));
+      RealVec center;
+      for (int k = 0; k < 3; ++k) center[k] = (Real(c[0][k]) + Real(c[1][k]) + Real(c[2][k])) / 3;
+      Real radius = 0;
+      for (const Vec3& corner : c) radius = std::max(radius, real_length(minus(center, real(corner))));
       faces_.push_back(f);
       centers_.push_back(center);
-      radii_.push_back(radius * (1 + 1e-9));
+      radii_.push_back(radius * (1 + 1e-9L));
       for (std::uint32_t v : {soup.triangles[3 * f], soup.triangles[3 * f + 1], soup.triangles[3 * f + 2]})
         used_vertices_.push_back(v);
     }
@@ -142,9 +145,9 @@ class BruteForce {
   }
 
   Reference closest(const Vec3& p) const {
-    double bound = HUGE_VAL;
+    Real bound = HUGE_VALL;
     for (std::uint32_t v : used_vertices_)
-      bound = std::min(bound, exactgeo_test::distance(p, vertex_position(soup_, v)));
+      bound = std::min(bound, real_length(minus(real(p), real(vertex_position(soup_, v)))));
     Reference best;
     for_faces_within(p, bound, [&](std::uint32_t f) {
       const Reference candidate = measure(p, f);
@@ -159,8 +162,7 @@ class BruteForce {
     bool tie = false;
     for_faces_within(p, distance + tolerance, [&](std::uint32_t f) {
       const Reference candidate = measure(p, f);
-      tie = tie || (candidate.distance <= distance + tolerance &&
-                    exactgeo_test::distance(candidate.position, position) > apart);
+      tie = tie || (candidate.distance <= distance + tolerance && distance_apart(candidate.position, position) > apart);
     });
     return tie;
   }
@@ -170,27 +172,28 @@ class BruteForce {
     const std::array<Vec3, 3> c = corners(f);
     return closest_on_triangle(real(p), {real(c[0]), real(c[1]), real(c[2])});
   }
+  // In long double, whose range squares lengths of 1e-300 and 1e300 (in double, a mesh at 1e-162 has its squares
+  // underflow, and faces that hold the closest point were skipped).
   template <class Visit>
-  void for_faces_within(const Vec3& p, double bound, Visit&& visit) const {
+  void for_faces_within(const Vec3& p, Real bound, Visit&& visit) const {
     for (std::size_t i = 0; i < faces_.size(); ++i) {
-      const Vec3& c = centers_[i];
-      const double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
-      const double reach = bound * (1 + 1e-12) + radii_[i];
-      if (dx * dx + dy * dy + dz * dz <= reach * reach) visit(faces_[i]);
+      const RealVec offset = minus(real(p), centers_[i]);
+      const Real reach = bound * (1 + 1e-12L) + radii_[i];
+      if (dot(offset, offset) <= reach * reach) visit(faces_[i]);
     }
   }
 
   const MeshSoup& soup_;
   std::vector<bool> kept_;
   std::vector<std::uint32_t> faces_;
-  std::vector<Vec3> centers_;
-  std::vector<double> radii_;
+  std::vector<RealVec> centers_;
+  std::vector<Real> radii_;
   std::vector<std::uint32_t> used_vertices_;
 };
 
 struct Bounds {
   Vec3 lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  double diagonal() const { return exactgeo_test::distance(lo, hi); }
+  double diagonal() const { return distance_apart(lo, hi); }
 };
 
 inline Bounds bounds_of(const MeshSoup& soup) {
@@ -212,45 +215,76 @@ inline RealVec located_position(const BruteForce& brute, const SurfacePoint& poi
   return q;
 }
 
-// Every point of `xyz` located on a kept face, with valid barycentric coordinates, at the reference's distance
-// (kDistanceTolerance), the located point at that distance from it, and at the reference's closest point
-// (kPositionTolerance) unless the reference finds a tie.
-inline void expect_matches_brute_force(const MeshSoup& soup, const std::vector<double>& xyz,
-                                       const LocateResult& located, const std::string& label) {
-  const BruteForce brute(soup);
-  const double scale = bounds_of(soup).diagonal();
-  ASSERT_EQ(located.points.size(), xyz.size() / 3);
-  ASSERT_EQ(located.distances.size(), xyz.size() / 3);
+// What a locate result found against the reference: the first fault ("" if none), the ties between distinct
+// points, and the largest distance error relative to the distance (or to a thousandth of the diagonal).
+struct LocateCheck {
+  std::string fault;
   std::size_t ties = 0;
   double worst_relative = 0;
+};
+
+// Every point of `xyz` located on a kept face, with valid barycentric coordinates, at the reference's distance
+// (kDistanceTolerance), the located point at that distance from it, and at the reference's closest point
+// (kPositionTolerance) unless the reference finds a tie. Stops at the first fault.
+inline LocateCheck check_against_brute_force(const MeshSoup& soup, const std::vector<double>& xyz,
+                                             const LocateResult& located) {
+  const BruteForce brute(soup);
+  const double scale = bounds_of(soup).diagonal();
+  LocateCheck check;
+  if (located.points.size() != xyz.size() / 3 || located.distances.size() != xyz.size() / 3) {
+    check.fault = "located " + std::to_string(located.points.size()) + " points and " +
+                  std::to_string(located.distances.size()) + " distances for " + std::to_string(xyz.size() / 3);
+    return check;
+  }
+  const auto number = [](long double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17Lg", value);
+    return std::string(text);
+  };
+  const auto fail = [&](std::size_t i, const std::string& what) {
+    check.fault = "point " + std::to_string(i) + " (" + number(xyz[3 * i]) + " " + number(xyz[3 * i + 1]) + " " +
+                  number(xyz[3 * i + 2]) + "): " + what;
+    return check;
+  };
   for (std::size_t i = 0; i < located.points.size(); ++i) {
     const Vec3 p = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
     const SurfacePoint& point = located.points[i];
-    ASSERT_TRUE(brute.kept(point.face)) << label << ": point " << i << " on face " << point.face << ", not a kept face";
+    if (!brute.kept(point.face)) return fail(i, "on face " + std::to_string(point.face) + ", not a kept face");
     const auto& b = point.barycentric;
-    ASSERT_TRUE(b[0] >= 0 && b[1] >= 0 && b[2] >= 0 && b[0] <= 1 && b[1] <= 1 && b[2] <= 1)
-        << label << ": point " << i << " barycentric " << b[0] << " " << b[1] << " " << b[2];
-    ASSERT_NEAR(b[0] + b[1] + b[2], 1.0, 1e-15) << label << ": point " << i;
+    if (!(b[0] >= 0 && b[1] >= 0 && b[2] >= 0 && b[0] <= 1 && b[1] <= 1 && b[2] <= 1) ||
+        !(std::abs(b[0] + b[1] + b[2] - 1) <= 1e-15))
+      return fail(i, "barycentric " + number(b[0]) + " " + number(b[1]) + " " + number(b[2]));
 
     const Reference reference = brute.closest(p);
     const double tolerance = kDistanceTolerance * std::max(reference.distance, 1e-3 * scale);
-    ASSERT_NEAR(located.distances[i], reference.distance, tolerance) << label << ": point " << i;
+    if (!(std::abs(located.distances[i] - reference.distance) <= tolerance))
+      return fail(i, "distance " + number(located.distances[i]) + ", the reference's " + number(reference.distance));
     const RealVec q = located_position(brute, point);
-    ASSERT_NEAR(length(minus(real(p), q)), located.distances[i], tolerance)
-        << label << ": point " << i << " is not at its distance from the point located";
-    worst_relative = std::max(worst_relative, std::abs(located.distances[i] - reference.distance) /
-                                                  std::max(reference.distance, 1e-3 * scale));
-    if (exactgeo_test::distance(to_double(q), reference.position) > kPositionTolerance * scale) {
-      ASSERT_TRUE(brute.ties_elsewhere(p, reference.distance, to_double(q), tolerance, kPositionTolerance * scale))
-          << label << ": point " << i << " located at " << q[0] << " " << q[1] << " " << q[2] << ", the closest is "
-          << reference.position[0] << " " << reference.position[1] << " " << reference.position[2];
-      ++ties;
+    if (!(std::abs(length(minus(real(p), q)) - located.distances[i]) <= tolerance))
+      return fail(i, "at " + number(length(minus(real(p), q))) + " from the point located, its distance " +
+                         number(located.distances[i]));
+    check.worst_relative = std::max(check.worst_relative, std::abs(located.distances[i] - reference.distance) /
+                                                              std::max(reference.distance, 1e-3 * scale));
+    if (distance_apart(to_double(q), reference.position) > kPositionTolerance * scale) {
+      if (!brute.ties_elsewhere(p, reference.distance, to_double(q), tolerance, kPositionTolerance * scale))
+        return fail(i, "located at " + number(q[0]) + " " + number(q[1]) + " " + number(q[2]) + ", the closest is " +
+                           number(reference.position[0]) + " " + number(reference.position[1]) + " " +
+                           number(reference.position[2]));
+      ++check.ties;
     }
   }
+  return check;
+}
+
+// check_against_brute_force as a test expectation, with a line saying how close the answers came.
+inline void expect_matches_brute_force(const MeshSoup& soup, const std::vector<double>& xyz,
+                                       const LocateResult& located, const std::string& label) {
+  const LocateCheck check = check_against_brute_force(soup, xyz, located);
+  EXPECT_EQ(check.fault, "") << label;
   std::printf(
       "  %s: %zu points, distance errors up to %.2g (of the distance, or of a thousandth of the diagonal), "
       "%zu ties between distinct points\n",
-      label.c_str(), located.points.size(), worst_relative, ties);
+      label.c_str(), located.points.size(), check.worst_relative, check.ties);
 }
 
 // A random point of a random kept face.
@@ -273,7 +307,7 @@ inline std::vector<double> random_points(const MeshSoup& soup, std::size_t count
   Random random(seed);
   const std::vector<bool> kept = kept_faces(soup);
   const auto [lo, hi] = bounds_of(soup);
-  const double scale = exactgeo_test::distance(lo, hi);
+  const double scale = distance_apart(lo, hi);
   std::vector<double> xyz;
   for (std::size_t i = 0; i < count; ++i) {
     Vec3 p;
