@@ -146,6 +146,16 @@ std::string number(double value) {
   return text;
 }
 
+// Whether the case of `seed` held; if not, reports its mesh, its first failed checks and how to run it alone
+// (`test`: the fuzz test's name).
+bool held(std::uint64_t seed, const std::string& family, const Failures& failures, const char* test) {
+  if (failures.count() == 0) return true;
+  ADD_FAILURE() << "seed " << seed << " (" << family << "): " << failures.count() << " failed checks\n"
+                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
+                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz." << test;
+  return false;
+}
+
 // Every check of one case under one variant.
 void check_case(const FuzzCase& c, const GeodesicOptions& options, Random& random, Failures& failures) {
   const MeshSoup& soup = c.soup;
@@ -241,10 +251,7 @@ bool check_seed(std::uint64_t seed) {
       failures.add(exactgeo_test::variant_label(options) + ": exactgeo::Error " + error.what());
     }
   }
-  if (failures.count() == 0) return true;
-  ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
-                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed << " EXACTGEO_FUZZ_CASES=1";
-  return false;
+  return held(seed, c.family, failures, "RandomMeshesKeepEveryProperty");
 }
 
 TEST(Fuzz, RandomMeshesKeepEveryProperty) { check_seeds("random", kDefaultCases, check_seed); }
@@ -463,11 +470,7 @@ bool check_junction_seed(std::uint64_t seed) {
       failures.add(exactgeo_test::variant_label(options) + ": exactgeo::Error " + error.what());
     }
   }
-  if (failures.count() == 0) return true;
-  ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
-                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
-                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz.CoincidentVerticesAndNonManifoldJunctions";
-  return false;
+  return held(seed, c.family, failures, "CoincidentVerticesAndNonManifoldJunctions");
 }
 
 TEST(Fuzz, CoincidentVerticesAndNonManifoldJunctions) {
@@ -485,23 +488,24 @@ TEST(Fuzz, CoincidentVerticesAndNonManifoldJunctions) {
 constexpr std::uint64_t kDefaultThinCases = 24;
 constexpr double kThreadsAgreement = 1e-14;
 
-// A height field of 6 to 24 cells a side stretched along one axis by `stretch` (10 to 10^4), sheared, turned.
-MeshSoup random_thin_height_field(Random& random, double& stretch) {
+// A height field of 6 to 24 cells a side stretched along one axis by 10 to 10^4, sheared, turned.
+FuzzCase random_thin_height_field(Random& random) {
   const int nx = 6 + static_cast<int>(random.below(19)), ny = 6 + static_cast<int>(random.below(19));
   MeshSoup soup = exactgeo_test::random_height_field(random, nx, ny, random.uniform(0.02, 0.3), random.below(2) != 0);
-  stretch = std::pow(10.0, random.uniform(1, 4));
+  const double stretch = std::pow(10.0, random.uniform(1, 4));
   const double shear = random.uniform(-0.5, 0.5);
   for (std::size_t i = 0; i < soup.positions.size(); i += 3) {
     soup.positions[i] = (soup.positions[i] + shear * soup.positions[i + 1]) * stretch;
     if (random.below(2)) std::swap(soup.positions[i], soup.positions[i + 1]);  // thin across or along
   }
-  return exactgeo_test::randomly_rotated(std::move(soup), random);
+  return {"height field stretched " + number(stretch) + " times",
+          exactgeo_test::randomly_rotated(std::move(soup), random)};
 }
 
 bool check_thin_seed(std::uint64_t seed) {
   Random random(seed);
-  double stretch;
-  const MeshSoup soup = random_thin_height_field(random, stretch);
+  const FuzzCase c = random_thin_height_field(random);
+  const MeshSoup& soup = c.soup;
   const Mesh mesh(soup);
   const std::uint32_t source = exactgeo_test::random_source_vertex(soup, seed);
   Failures failures;
@@ -514,7 +518,7 @@ bool check_thin_seed(std::uint64_t seed) {
     targets.push_back(exactgeo::vertex_point(mesh, target_vertices.back()));
   }
   for (const unsigned threads : {2u, 3u, 8u, 16u}) {
-    const std::string where = std::to_string(threads) + " threads, stretch " + number(stretch) + ": ";
+    const std::string where = std::to_string(threads) + " threads: ";
     const std::vector<double> all = exactgeo::geodesic_distance(mesh, source, {.threads = threads}).distances;
     if (const auto match = exactgeo_test::distances_match(all, one.distances, kThreadsAgreement); !match)
       failures.add(where + match.message());
@@ -532,11 +536,7 @@ bool check_thin_seed(std::uint64_t seed) {
         failures.add(where + "target vertex " + std::to_string(v) + ": " + fault);
     }
   }
-  if (failures.count() == 0) return true;
-  ADD_FAILURE() << "seed " << seed << ": " << failures.count() << " failed checks\n" << failures.details()
-                << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
-                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz.ThinTrianglesOnThreadsAgreeWithOneThread";
-  return false;
+  return held(seed, c.family, failures, "ThinTrianglesOnThreadsAgreeWithOneThread");
 }
 
 TEST(Fuzz, ThinTrianglesOnThreadsAgreeWithOneThread) {
@@ -593,14 +593,7 @@ std::string point_path_fault(const exactgeo::GeodesicPath& path, double distance
 
 bool check_point_seed(std::uint64_t seed) {
   Random random(seed);
-  FuzzCase c;
-  if (random.below(4) == 0) {
-    double stretch;
-    c.soup = random_thin_height_field(random, stretch);
-    c.family = "height field stretched " + number(stretch) + " times";
-  } else {
-    c = random_case(random);
-  }
+  FuzzCase c = random.below(4) == 0 ? random_thin_height_field(random) : random_case(random);
   if (random.below(3) == 0) {
     const int exponent = static_cast<int>(random.below(401)) - 200;
     for (double& x : c.soup.positions) x *= std::pow(10.0, exponent);
@@ -705,11 +698,7 @@ bool check_point_seed(std::uint64_t seed) {
   } catch (const exactgeo::Error& error) {
     failures.add(variant + "exactgeo::Error " + error.what());
   }
-  if (failures.count() == 0) return true;
-  ADD_FAILURE() << "seed " << seed << " (" << c.family << "): " << failures.count() << " failed checks\n"
-                << failures.details() << "reproduce with EXACTGEO_FUZZ_SEED=" << seed
-                << " EXACTGEO_FUZZ_CASES=1 --gtest_filter=Fuzz.PointQueriesPairsAndLocateAgreeWithTargetRuns";
-  return false;
+  return held(seed, c.family, failures, "PointQueriesPairsAndLocateAgreeWithTargetRuns");
 }
 
 TEST(Fuzz, PointQueriesPairsAndLocateAgreeWithTargetRuns) {
