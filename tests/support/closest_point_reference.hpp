@@ -260,9 +260,9 @@ inline LocateCheck check_against_brute_force(const MeshSoup& soup, const std::ve
     if (!(std::abs(located.distances[i] - reference.distance) <= tolerance))
       return fail(i, "distance " + number(located.distances[i]) + ", the reference's " + number(reference.distance));
     const RealVec q = located_position(brute, point);
-    if (!(std::abs(length(minus(real(p), q)) - located.distances[i]) <= tolerance))
-      return fail(i, "at " + number(length(minus(real(p), q))) + " from the point located, its distance " +
-                         number(located.distances[i]));
+    const double apart = length(minus(real(p), q));
+    if (!(std::abs(apart - located.distances[i]) <= tolerance))
+      return fail(i, "at " + number(apart) + " from the point located, its distance " + number(located.distances[i]));
     check.worst_relative = std::max(check.worst_relative, std::abs(located.distances[i] - reference.distance) /
                                                               std::max(reference.distance, 1e-3 * scale));
     if (distance_apart(to_double(q), reference.position) > kPositionTolerance * scale) {
