@@ -60,8 +60,8 @@ void FaceWindows::finish(const SurfaceMesh& mesh, std::span<const double> vertex
   for (std::uint32_t i = 0; i < sources.size(); ++i) {
     const LocatedPoint& point = sources[i].point;
     if (point.vertex != kNone) continue;  // a source at a vertex is a corner, at distance 0
-    for (const LocatedPoint& in_face : {point, seen_across_edge(mesh, point)})
-      if (in_face.face != kNone) face_sources_.push_back({in_face.face, mesh.vertex_count + i, in_face});
+    for (const LocatedPoint& in_face : placements_of(mesh, point))
+      face_sources_.push_back({in_face.face, mesh.vertex_count + i, in_face});
   }
   std::sort(face_sources_.begin(), face_sources_.end(),
             [](const FaceSource& a, const FaceSource& b) { return a.face < b.face || (a.face == b.face && a.id < b.id); });
@@ -74,28 +74,30 @@ std::uint64_t FaceWindows::bytes(std::size_t halfedge_count) const {
 }
 
 // The rules by which a run evaluates its targets (VtpEngine::evaluate_targets and the sources' own faces; the
-// source, window and corner steps are targets.hpp's), over everything that entered the point's face during
-// the run.
+// source, window and corner steps are targets.hpp's), over everything that entered a face that holds the
+// point during the run.
 double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> vertex_distance, const LocatedPoint& point,
                           Arrival& arrival) const {
   EXACTGEO_ASSERT(kept_ && point.vertex == kNone);
-  const std::uint32_t f = point.face;
   double best = HUGE_VAL;
-  const auto first =
-      std::partition_point(face_sources_.begin(), face_sources_.end(), [f](const FaceSource& s) { return s.face < f; });
   auto keep_shortest = [&](double d, const Arrival& reached_by) {
     if (!(d < best)) return;
     best = d;
     arrival = reached_by;
   };
-  for (auto s = first; s != face_sources_.end() && s->face == f; ++s)
-    reach_from_source_in_face(mesh, s->point, s->id, point, keep_shortest);
-  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-    const auto [qx, qy] = position_in_frame(mesh, point, h);
-    for (const Window& w : entering(h)) reach_through_window(w, h, qx, qy, keep_shortest);
+  for (const LocatedPoint& in_face : placements_of(mesh, point)) {
+    const std::uint32_t f = in_face.face;
+    const auto first = std::partition_point(face_sources_.begin(), face_sources_.end(),
+                                            [f](const FaceSource& s) { return s.face < f; });
+    for (auto s = first; s != face_sources_.end() && s->face == f; ++s)
+      reach_from_source_in_face(mesh, s->point, s->id, in_face, keep_shortest);
+    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
+      const auto [qx, qy] = position_in_frame(mesh, in_face, h);
+      for (const Window& w : entering(h)) reach_through_window(w, h, qx, qy, keep_shortest);
+    }
+    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+      reach_from_corner(mesh, h, vertex_distance[mesh.apex(h)], in_face, keep_shortest);
   }
-  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-    reach_from_corner(mesh, h, vertex_distance[mesh.apex(h)], point, keep_shortest);
   return best;
 }
 

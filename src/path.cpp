@@ -229,19 +229,27 @@ class PathBuilder {
     add(p, location);
   }
 
-  // The point p of face(h), given in h's frame, as a surface point.
+  // The point p of face(h), given in h's frame, as a surface point. A face with no area is a segment (or a
+  // point): p as a point of its longest side.
   void add_face_point(std::uint32_t h, Vec2 p) {
-    const std::array<Vec2, 3> c = corners_in_frame(surface_, h);
-    const double area = cross(c[1] - c[0], c[2] - c[0]);
-    std::array<double, 3> weight = {1, 0, 0};  // by corner of h's frame: tail, head, apex
-    if (area > 0) {
-      weight[1] = cross(p - c[0], c[2] - c[0]) / area;
-      weight[2] = cross(c[1] - c[0], p - c[0]) / area;
-      weight[0] = 1 - weight[1] - weight[2];
-    }
     const std::uint32_t f = face_of(h);
     SurfacePoint point{surface_.surface_face_to_input[f], {0, 0, 0}};
-    for (int k = 0; k < 3; ++k) point.barycentric[(h % 3 + k) % 3] = weight[k];
+    const std::array<Vec2, 3> c = corners_in_frame(surface_, h);
+    const double area = cross(c[1] - c[0], c[2] - c[0]);
+    if (area > 0) {
+      const double to_head = cross(p - c[0], c[2] - c[0]) / area, to_apex = cross(c[1] - c[0], p - c[0]) / area;
+      point.barycentric[h % 3] = 1 - to_head - to_apex;  // by corner of h's frame: tail, head, apex
+      point.barycentric[(h + 1) % 3] = to_head;
+      point.barycentric[(h + 2) % 3] = to_apex;
+    } else {
+      std::uint32_t longest = 3 * f;
+      for (std::uint32_t e = 3 * f + 1; e < 3 * f + 3; ++e)
+        if (surface_.halfedges[e].length > surface_.halfedges[longest].length) longest = e;
+      const double length = surface_.halfedges[longest].length;
+      const double t = length > 0 ? std::clamp(to_sibling_frame(surface_, h, longest, p).x / length, 0.0, 1.0) : 0;
+      point.barycentric[longest % 3] = 1 - t;
+      point.barycentric[(longest + 1) % 3] = t;
+    }
     PathPointLocation location;
     location.kind = PathPointLocation::Kind::face;
     location.face_point = point;
@@ -298,7 +306,11 @@ class PathBuilder {
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
     if (std::isnan(arrival.crossing)) {  // straight to a corner or a source inside the face
-      if (corner_at(h, source) == kNone) add_face_point(h, source);
+      const std::uint32_t corner = corner_at(h, source);
+      if (corner == kNone)
+        add_face_point(h, source);
+      else if (pseudo_source == kNone)  // a source point at a corner's place (on a side of no length)
+        add_vertex(corner);
       return pseudo_source;
     }
     if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "exactgeo/error.hpp"
+#include "tolerances.hpp"
 
 namespace exactgeo {
 namespace detail {
@@ -91,18 +92,36 @@ std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std
   return copies;
 }
 
-LocatedPoint seen_across_edge(const SurfaceMesh& mesh, const LocatedPoint& point) {
-  LocatedPoint across;
-  if (point.edge == kNone || mesh.twin[point.edge] == kNone) return across;
-  const std::uint32_t e = point.edge, g = mesh.twin[e];
-  const double t = point.barycentric[(e + 1) % 3];  // from e's tail towards its head
-  const double t_g = mesh.tail(g) == mesh.tail(e) ? t : 1 - t;
-  across.face = face_of(g);
-  across.barycentric = {0, 0, 0};
-  across.barycentric[g % 3] = 1 - t_g;
-  across.barycentric[(g + 1) % 3] = t_g;
-  across.edge = g;
-  return across;
+bool lies_on_side(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
+  if (h == point.edge) return true;
+  const double length = mesh.halfedges[h].length, near = kMinWindowWidth * mesh.length_scale;
+  if (!(length > 0)) return false;  // a side of no length holds a point only as a corner
+  const auto [x, y] = position_in_frame(mesh, point, h);
+  return y <= near && x >= -near && x <= length + near;
+}
+
+std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPoint& point) {
+  std::vector<LocatedPoint> placements = {point};
+  for (std::size_t next = 0; next < placements.size(); ++next) {
+    const LocatedPoint here = placements[next];  // a copy: the vector grows below
+    for (std::uint32_t h = 3 * here.face; h < 3 * here.face + 3; ++h) {
+      const std::uint32_t g = mesh.twin[h];
+      if (g == kNone || !lies_on_side(mesh, here, h)) continue;
+      if (std::ranges::any_of(placements, [&](const LocatedPoint& p) { return p.face == face_of(g); })) continue;
+      // The point's place along the side, from h's tail; g runs the other way unless the edge was cut reversed.
+      const double length = mesh.halfedges[h].length;
+      const double t = std::clamp(position_in_frame(mesh, here, h)[0] / length, 0.0, 1.0);
+      const double t_g = mesh.tail(g) == mesh.tail(h) ? t : 1 - t;
+      LocatedPoint across;
+      across.face = face_of(g);
+      across.barycentric = {0, 0, 0};
+      across.barycentric[g % 3] = 1 - t_g;
+      across.barycentric[(g + 1) % 3] = t_g;
+      across.edge = g;
+      placements.push_back(across);
+    }
+  }
+  return placements;
 }
 
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {

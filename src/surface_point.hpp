@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "exactgeo/surface_point.hpp"
 #include "surface_mesh.hpp"
@@ -30,9 +31,18 @@ LocatedPoint locate_checked(const SurfaceMesh& mesh, const SurfacePoint& point, 
 // Error(invalid_argument) if the index is out of range or the vertex is used by no face.
 std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex);
 
-// The same point seen from the face across the edge it lies on; face kNone if it lies on no edge, or on a
-// boundary edge.
-LocatedPoint seen_across_edge(const SurfaceMesh& mesh, const LocatedPoint& point);
+// Whether the point, a point of face(h), lies on h's side: located on it, or, rounding apart, within the
+// narrowest window (kMinWindowWidth of the mesh's size) of the segment, where the windows it would send
+// across h are too thin to be kept.
+bool lies_on_side(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h);
+
+// Every face that holds the point, with the point as a point of that face, its own face first: the faces
+// across the sides it lies on, and on across those faces' sides. Straight rays from the point reach into each
+// of them. Beyond the face across an edge, this matters where faces have no area (a vertex doubled in place
+// and stitched back by two of them, a sliver): such a face's sides lie on one line, a point of it on each
+// side that holds it, and the faces with area around it are reached only across those sides. Sources start,
+// targets are reached and queries answered in every placement.
+std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPoint& point);
 
 // Which coordinates a position in space is given in: the input's, or the engine's frame (the input's times
 // 2^scale_exponent, see SurfaceMesh).

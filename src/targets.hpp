@@ -55,6 +55,12 @@ void reach_from_source_in_face(const SurfaceMesh& mesh, const LocatedPoint& sour
 
 class RunTargets {
  public:
+  // A target inside face f or on its sides, as a point of f (one of its placements).
+  struct InFace {
+    std::uint32_t target;
+    LocatedPoint at;
+  };
+
   // Forgets the last run's targets and lists these, none reached yet.
   void assign(const SurfaceMesh& mesh, std::span<const LocatedPoint> targets) {
     points_.assign(targets.begin(), targets.end());
@@ -66,20 +72,24 @@ class RunTargets {
     if (targets.empty()) return;
     is_vertex_.assign(mesh.vertex_count, 0);
     face_offsets_.assign(mesh.face_count() + 1, 0);
-    for (const LocatedPoint& t : points_) {
-      if (t.vertex != kNone) {
+    // A target inside a face or on an edge is listed in every face that holds it.
+    std::vector<InFace> placed;
+    for (std::uint32_t t = 0; t < points_.size(); ++t) {
+      if (points_[t].vertex != kNone) {
         // A target at a vertex is that input vertex, carried by whichever of its copies is nearest: lowering
         // any copy may lower it.
-        for (std::uint32_t copy : mesh.copies_with(t.vertex)) is_vertex_[copy] = 1;
-      } else {
-        ++face_offsets_[t.face + 1];
+        for (std::uint32_t copy : mesh.copies_with(points_[t].vertex)) is_vertex_[copy] = 1;
+        continue;
+      }
+      for (const LocatedPoint& at : placements_of(mesh, points_[t])) {
+        placed.push_back({t, at});
+        ++face_offsets_[at.face + 1];
       }
     }
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) face_offsets_[f + 1] += face_offsets_[f];
     face_targets_.resize(face_offsets_.back());
     std::vector<std::uint32_t> fill(face_offsets_.begin(), face_offsets_.end() - 1);
-    for (std::uint32_t t = 0; t < points_.size(); ++t)
-      if (points_[t].vertex == kNone) face_targets_[fill[points_[t].face]++] = t;
+    for (const InFace& target : placed) face_targets_[fill[target.at.face]++] = target;
     // Each face's targets fill exactly its slots [offsets[f], offsets[f + 1]).
     EXACTGEO_ASSERT(std::equal(fill.begin(), fill.end(), face_offsets_.begin() + 1));
   }
@@ -87,9 +97,9 @@ class RunTargets {
   const std::vector<LocatedPoint>& points() const { return points_; }
   const std::vector<double>& distances() const { return distance_; }  // in the engine's frame
   const std::vector<Arrival>& arrivals() const { return arrival_; }
-  // Whether some target lies inside a face or on an edge; the targets in face f.
+  // Whether some target lies inside a face or on an edge; the targets that face f holds.
   bool in_faces() const { return !face_offsets_.empty(); }
-  std::span<const std::uint32_t> in_face(std::uint32_t f) const {
+  std::span<const InFace> in_face(std::uint32_t f) const {
     return {face_targets_.data() + face_offsets_[f], face_targets_.data() + face_offsets_[f + 1]};
   }
   // Whether surface vertex v carries a target (is a copy of a target's input vertex).
@@ -110,8 +120,8 @@ class RunTargets {
   // Rule 1 and the vertex checks, which only prune what leaves the face.
   void evaluate_list(const SurfaceMesh& mesh, std::uint32_t h, std::span<const Window> list, double cutoff,
                      bool& farthest_changed) {
-    for (const std::uint32_t t : in_face(face_of(h))) {
-      const auto [qx, qy] = position_in_frame(mesh, points_[t], h);
+    for (const auto& [t, at] : in_face(face_of(h))) {
+      const auto [qx, qy] = position_in_frame(mesh, at, h);
       for (const Window& w : list)
         reach_through_window(w, h, qx, qy,
                              [&](double d, const Arrival& arrival) { offer(t, d, arrival, cutoff, farthest_changed); });
@@ -123,9 +133,9 @@ class RunTargets {
   template <class DistanceAt>
   void evaluate_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, double cutoff,
                              bool& farthest_changed) {
-    for (const std::uint32_t t : in_face(f)) {
+    for (const auto& [t, at] : in_face(f)) {
       for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-        reach_from_corner(mesh, h, distance_at(mesh.apex(h)), points_[t],
+        reach_from_corner(mesh, h, distance_at(mesh.apex(h)), at,
                           [&](double d, const Arrival& arrival) { offer(t, d, arrival, cutoff, farthest_changed); });
     }
   }
@@ -149,7 +159,8 @@ class RunTargets {
   std::vector<LocatedPoint> points_;
   std::vector<double> distance_;
   std::vector<Arrival> arrival_;
-  std::vector<std::uint32_t> face_offsets_, face_targets_;  // per surface face, empty without targets
+  std::vector<std::uint32_t> face_offsets_;  // per surface face, empty without targets
+  std::vector<InFace> face_targets_;
   std::vector<std::uint8_t> is_vertex_;                     // per surface vertex, empty without targets
 };
 

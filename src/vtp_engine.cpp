@@ -183,9 +183,8 @@ void VtpEngine::run_face_sorted() {
   for (const SourceSite& site : sources_) {
     const std::uint32_t v = site.point.vertex;
     if (v == kNone) {
-      // A source in a face or on an edge: the faces it lies in.
-      join_face(site.point.face);
-      if (site.point.edge != kNone && mesh_.twin[site.point.edge] != kNone) join_face(face_of(mesh_.twin[site.point.edge]));
+      // A source in a face or on an edge: the faces that hold it.
+      for (const LocatedPoint& in_face : placements_of(mesh_, site.point)) join_face(in_face.face);
       continue;
     }
     for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i)
@@ -247,29 +246,29 @@ void VtpEngine::join_face(std::uint32_t f) {
   }
 }
 
-// A source inside a face or on an edge: straight rays reach the face's corners and cross its edges, so it
-// starts as windows spanning every edge of the faces around it (but the edge it lies on) and as distances at
-// their corners.
+// A source inside a face or on an edge: straight rays reach the corners of every face that holds it
+// (placements_of) and cross their sides, so it starts as windows spanning each side it does not lie on, and as
+// distances at the corners.
 void VtpEngine::start_point_source(std::uint32_t site) {
-  const LocatedPoint& point = sources_[site].point;
   const std::uint32_t id = mesh_.vertex_count + site;
-  for (const LocatedPoint& in_face : {point, seen_across_edge(mesh_, point)}) {
-    if (in_face.face == kNone) continue;
+  for (const LocatedPoint& in_face : placements_of(mesh_, sources_[site].point)) {
     const std::uint32_t f = in_face.face;
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
       const auto [x, y] = position_in_frame(mesh_, in_face, h);
       const HalfedgeGeometry& g = mesh_.halfedges[h];
       // The corner opposite h is reached straight inside the face.
       relax(mesh_.apex(h), length(g.apex_x - x, g.apex_y - y), Arrival{id, h, std::nan(""), x, y});
+      // A window from a point on the side's line would see it under a zero angle: the rays along the line
+      // reach the face beyond as another placement of the point, or through the side's ends.
       const std::uint32_t across = mesh_.twin[h];
-      if (h == in_face.edge || across == kNone || !(g.length > state_.tolerances.min_width)) continue;
+      if (across == kNone || !(y > state_.tolerances.min_width) || !(g.length > state_.tolerances.min_width)) continue;
       place_new_window(across, to_twin_frame(Window{0, g.length, x, -y, 0, id}, g.length,
                                              mesh_.tail(across) != mesh_.tail(h)));
     }
     // Targets in the same face are reached straight.
     if (!state_.targets.in_faces()) continue;
-    for (const std::uint32_t t : state_.targets.in_face(f))
-      reach_from_source_in_face(mesh_, in_face, id, state_.targets.points()[t], [&](double d, const Arrival& arrival) {
+    for (const auto& [t, target] : state_.targets.in_face(f))
+      reach_from_source_in_face(mesh_, in_face, id, target, [&](double d, const Arrival& arrival) {
         state_.targets.offer(t, d, arrival, state_.cutoff, targets_changed_);
       });
   }

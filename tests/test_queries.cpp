@@ -309,6 +309,61 @@ TEST_P(PointQueries, FlatPathsAreStraightSegments) {
   }
 }
 
+// On a flat mesh, from `source`: every vertex and every target at its straight distance, and every path to a
+// target as long.
+void expect_straight_from(const Mesh& mesh, const SurfacePoint& source, const std::vector<SurfacePoint>& targets,
+                          const GeodesicOptions& options) {
+  const Vec3 s = exactgeo::point_position(mesh, source);
+  const std::vector<double> every_vertex = exactgeo::geodesic_distance(mesh, std::span(&source, 1), options).distances;
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+    ASSERT_NEAR(every_vertex[v], distance(s, vertex_position(mesh, v)), kExact * 4.0) << "vertex " << v;
+  GeodesicSolver solver(mesh);
+  const auto& result = solver.solve(std::span(&source, 1), targets, options);
+  for (std::size_t t = 0; t < targets.size(); ++t) {
+    const Vec3 q = exactgeo::point_position(mesh, targets[t]);
+    ASSERT_NEAR(result.target_distances[t], distance(s, q), kExact * 4.0) << "target on face " << targets[t].face;
+    expect_consistent_path(mesh, solver.path_to_target(t), result.target_distances[t], s, q, 4.0);
+  }
+}
+
+// Rays from a point run straight into every face around it. A point of a face with no area (here the stitches
+// of vertices doubled in place: a flat grid's vertices each copied into one of their faces, that face joined
+// back to the rest by two faces of no area along its sides) lies on the line of all its sides; a point on a
+// stitched side lies on a side of one face with area and of the stitch, not of the face with area beyond.
+// Before such points were placed in every face that holds them, the windows they sent along the line were
+// dropped and every distance went through a corner (0.522 for 0.085 straight on a 2 x 1 field). A point a hair
+// from a side (2e-13 of the mesh's size, closer than the narrowest window kept) is placed on the face beyond
+// that side too, where it lies within rounding.
+TEST_P(PointQueries, PointsOnStitchesAndAHairFromASideReachEveryFaceAroundThem) {
+  Random random(29);
+  MeshSoup soup = exactgeo::make_grid(24, 16, 3.0, 2.0);
+  const std::uint32_t unstitched_faces = exactgeo_test::face_count(soup);
+  std::vector<std::uint32_t> stands_for;
+  soup = exactgeo_test::with_coincident_vertices(std::move(soup), random, 12, stands_for);
+  const std::uint32_t face_count = exactgeo_test::face_count(soup);
+  ASSERT_EQ(face_count, unstitched_faces + 24);  // two stitches for each vertex doubled
+  const Mesh stitched(soup);
+  std::vector<SurfacePoint> targets;
+  for (int i = 0; i < 40; ++i) targets.push_back(random_point(stitched, random));
+  for (std::uint32_t f = unstitched_faces + 1; f < face_count; f += 2) targets.push_back({f, {0.6, 0.1, 0.3}});
+  for (std::uint32_t f = unstitched_faces; f < face_count; f += 3) {
+    SCOPED_TRACE("source on stitch " + std::to_string(f));
+    expect_straight_from(stitched, {f, {0.2, 0.3, 0.5}}, targets, GetParam());  // inside
+    expect_straight_from(stitched, {f, {0.0, 0.4, 0.6}}, targets, GetParam());  // on a side
+  }
+
+  // 5e-12 of the way to the opposite corner is kept (above kBarycentricSnap); on 48 x 32 cells, that is 2e-13
+  // of the mesh's size.
+  const Mesh fine(exactgeo::make_grid(48, 32, 3.0, 2.0));
+  targets.clear();
+  for (int i = 0; i < 40; ++i) targets.push_back(random_point(fine, random));
+  for (const SurfacePoint& source :
+       {SurfacePoint{700, {0.5, 0.5 - 5e-12, 5e-12}}, SurfacePoint{1201, {5e-12, 0.3, 0.7 - 5e-12}}}) {
+    SCOPED_TRACE("source a hair from a side of face " + std::to_string(source.face));
+    expect_straight_from(fine, source, targets, GetParam());
+  }
+}
+
 TEST_P(PointQueries, PathsOnCurvedMeshesHaveTheComputedLength) {
   for (const MeshSoup& soup : {exactgeo::make_bumpy_torus(40, 16), bumpy_terrain()}) {
     const Mesh mesh(soup);
