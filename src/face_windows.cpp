@@ -60,8 +60,9 @@ void FaceWindows::finish(const SurfaceMesh& mesh, std::span<const double> vertex
   for (std::uint32_t i = 0; i < sources.size(); ++i) {
     const LocatedPoint& point = sources[i].point;
     if (point.vertex != kNone) continue;  // a source at a vertex is a corner, at distance 0
-    for (const LocatedPoint& in_face : placements_of(mesh, point))
+    for_each_placement(mesh, point, [&](const LocatedPoint& in_face) {
       face_sources_.push_back({in_face.face, mesh.vertex_count + i, in_face});
+    });
   }
   std::sort(face_sources_.begin(), face_sources_.end(),
             [](const FaceSource& a, const FaceSource& b) { return a.face < b.face || (a.face == b.face && a.id < b.id); });
@@ -85,7 +86,7 @@ double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> verte
     best = d;
     arrival = reached_by;
   };
-  for (const LocatedPoint& in_face : placements_of(mesh, point)) {
+  for_each_placement(mesh, point, [&](const LocatedPoint& in_face) {
     const std::uint32_t f = in_face.face;
     const auto first = std::partition_point(face_sources_.begin(), face_sources_.end(),
                                             [f](const FaceSource& s) { return s.face < f; });
@@ -97,7 +98,7 @@ double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> verte
     }
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
       reach_from_corner(mesh, h, vertex_distance[mesh.apex(h)], in_face, keep_shortest);
-  }
+  });
   return best;
 }
 

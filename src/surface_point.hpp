@@ -44,6 +44,18 @@ bool lies_on_side(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint3
 // targets are reached and queries answered in every placement.
 std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPoint& point);
 
+// visit(placement) for each of placements_of(mesh, point); without allocating for a point on none of its
+// face's sides (most queries).
+template <class Visit>
+void for_each_placement(const SurfaceMesh& mesh, const LocatedPoint& point, Visit&& visit) {
+  const std::uint32_t h = 3 * point.face;
+  if (!lies_on_side(mesh, point, h) && !lies_on_side(mesh, point, h + 1) && !lies_on_side(mesh, point, h + 2)) {
+    visit(point);
+    return;
+  }
+  for (const LocatedPoint& placement : placements_of(mesh, point)) visit(placement);
+}
+
 // Which coordinates a position in space is given in: the input's, or the engine's frame (the input's times
 // 2^scale_exponent, see SurfaceMesh).
 enum class PositionFrame : std::uint8_t { input, engine };

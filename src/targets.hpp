@@ -81,10 +81,10 @@ class RunTargets {
         for (std::uint32_t copy : mesh.copies_with(points_[t].vertex)) is_vertex_[copy] = 1;
         continue;
       }
-      for (const LocatedPoint& at : placements_of(mesh, points_[t])) {
+      for_each_placement(mesh, points_[t], [&](const LocatedPoint& at) {
         placed.push_back({t, at});
         ++face_offsets_[at.face + 1];
-      }
+      });
     }
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) face_offsets_[f + 1] += face_offsets_[f];
     face_targets_.resize(face_offsets_.back());

@@ -184,7 +184,7 @@ void VtpEngine::run_face_sorted() {
     const std::uint32_t v = site.point.vertex;
     if (v == kNone) {
       // A source in a face or on an edge: the faces that hold it.
-      for (const LocatedPoint& in_face : placements_of(mesh_, site.point)) join_face(in_face.face);
+      for_each_placement(mesh_, site.point, [&](const LocatedPoint& in_face) { join_face(in_face.face); });
       continue;
     }
     for (std::uint32_t i = mesh_.vertex_corner_offsets[v]; i < mesh_.vertex_corner_offsets[v + 1]; ++i)
@@ -251,7 +251,7 @@ void VtpEngine::join_face(std::uint32_t f) {
 // distances at the corners.
 void VtpEngine::start_point_source(std::uint32_t site) {
   const std::uint32_t id = mesh_.vertex_count + site;
-  for (const LocatedPoint& in_face : placements_of(mesh_, sources_[site].point)) {
+  for_each_placement(mesh_, sources_[site].point, [&](const LocatedPoint& in_face) {
     const std::uint32_t f = in_face.face;
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
       const auto [x, y] = position_in_frame(mesh_, in_face, h);
@@ -266,12 +266,12 @@ void VtpEngine::start_point_source(std::uint32_t site) {
                                              mesh_.tail(across) != mesh_.tail(h)));
     }
     // Targets in the same face are reached straight.
-    if (!state_.targets.in_faces()) continue;
+    if (!state_.targets.in_faces()) return;
     for (const auto& [t, target] : state_.targets.in_face(f))
       reach_from_source_in_face(mesh_, in_face, id, target, [&](double d, const Arrival& arrival) {
         state_.targets.offer(t, d, arrival, state_.cutoff, targets_changed_);
       });
-  }
+  });
 }
 
 // The queue push, out of line (and timed when asked): relax runs for every list crossing and stays small.
