@@ -13,6 +13,7 @@
 #include "arrival.hpp"
 #include "propagation.hpp"
 #include "surface_mesh.hpp"
+#include "surface_point.hpp"
 #include "tolerances.hpp"
 #include "windows.hpp"
 
@@ -99,13 +100,34 @@ inline ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Ar
   return ShadowCone::behind(arrival, mesh.fan_total_angle[v], mesh.fan_closed[v]);
 }
 
+// The straight rays from a point of face(in_face.face) at distance d (a source point at 0, or a pseudo-source
+// on one of the face's sides), numbered `id` as Arrival::from counts: offer(u, distance, arrival) for each
+// corner u, place(g, window) for a window across each side the point does not lie on (from a side's line it
+// would be seen under a zero angle: those rays run into the face beyond as another placement of the point).
+template <class Offer, class Place>
+void for_each_ray_from_point(const SurfaceMesh& mesh, const LocatedPoint& in_face, std::uint32_t id, double d,
+                             double min_width, Offer&& offer, Place&& place) {
+  for (std::uint32_t h = 3 * in_face.face; h < 3 * in_face.face + 3; ++h) {
+    const auto [x, y] = position_in_frame(mesh, in_face, h);
+    const HalfedgeGeometry& g = mesh.halfedges[h];
+    offer(mesh.apex(h), d + length(g.apex_x - x, g.apex_y - y), Arrival{id, h, std::nan(""), x, y});
+    const std::uint32_t across = mesh.twin[h];
+    if (across == kNone || !(y > min_width) || !(g.length > min_width)) continue;
+    place(across, to_twin_frame(Window{0, g.length, x, -y, d, id}, g.length, mesh.tail(across) != mesh.tail(h)));
+  }
+}
+
 // The parts of pseudo-source v's emission at distance d, reached as `arrival` says, in order: offer(u,
 // distance, arrival) for each neighbour u, place(g, window) for each window wider than min_width across the
 // edges opposite v, within its shadow cone. Reads only the mesh.
+// Where an opposite side runs through v (a face of no area: the sliver that closes a T-junction, v at the
+// junction), v is a point of that side, and its rays run on into the faces beyond, as a source point's do:
+// those placements of v emit everything (v's fan angles are not reliable there anyway).
 template <class Offer, class Place>
 void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, const Arrival& arrival,
                             double min_width, Offer&& offer, Place&& place) {
   const ShadowCone cone = shadow_cone(mesh, v, arrival);
+  LocatedPoint on_a_side;  // v as a corner of a face whose opposite side holds it, if any
   for (std::uint32_t i = mesh.vertex_corner_offsets[v]; i < mesh.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t c = mesh.vertex_corners[i];  // halfedge leaving v
     const std::uint32_t opposite = next_halfedge(c), back = prev_halfedge(c);
@@ -114,10 +136,21 @@ void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, 
     const std::uint32_t g = mesh.twin[opposite];
     if (g == kNone) continue;
     const HalfedgeGeometry& o = mesh.halfedges[opposite];
+    if (on_a_side.face == kNone && !(o.apex_y > min_width) && o.length > 0 && o.apex_x >= 0 && o.apex_x <= o.length) {
+      on_a_side.face = face_of(c);
+      on_a_side.barycentric = {0, 0, 0};
+      on_a_side.barycentric[c % 3] = 1;
+    }
     const auto [b0, b1] = cone.part_of_opposite_edge(mesh, c);
     if (!(b1 - b0 > min_width)) continue;
     place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh.tail(g) != mesh.tail(opposite)));
   }
+  if (on_a_side.face == kNone) return;
+  for_each_placement(mesh, on_a_side, [&](const LocatedPoint& in_face) {
+    for (std::uint32_t h = 3 * in_face.face; h < 3 * in_face.face + 3; ++h)
+      if (mesh.tail(h) == v) return;  // a face of v's fan, done above
+    for_each_ray_from_point(mesh, in_face, v, d, min_width, offer, place);
+  });
 }
 
 }  // namespace exactgeo::detail

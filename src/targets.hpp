@@ -120,11 +120,11 @@ class RunTargets {
   // Rule 1 and the vertex checks, which only prune what leaves the face.
   void evaluate_list(const SurfaceMesh& mesh, std::uint32_t h, std::span<const Window> list, double cutoff,
                      bool& farthest_changed) {
-    for (const auto& [t, at] : in_face(face_of(h))) {
-      const auto [qx, qy] = position_in_frame(mesh, at, h);
+    for (const InFace& in : in_face(face_of(h))) {
+      const auto [qx, qy] = position_in_frame(mesh, in.at, h);
       for (const Window& w : list)
-        reach_through_window(w, h, qx, qy,
-                             [&](double d, const Arrival& arrival) { offer(t, d, arrival, cutoff, farthest_changed); });
+        reach_through_window(
+            w, h, qx, qy, [&](double d, const Arrival& arrival) { offer(in.target, d, arrival, cutoff, farthest_changed); });
     }
   }
 
@@ -133,10 +133,11 @@ class RunTargets {
   template <class DistanceAt>
   void evaluate_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, double cutoff,
                              bool& farthest_changed) {
-    for (const auto& [t, at] : in_face(f)) {
+    for (const InFace& in : in_face(f)) {
       for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-        reach_from_corner(mesh, h, distance_at(mesh.apex(h)), at,
-                          [&](double d, const Arrival& arrival) { offer(t, d, arrival, cutoff, farthest_changed); });
+        reach_from_corner(mesh, h, distance_at(mesh.apex(h)), in.at, [&](double d, const Arrival& arrival) {
+          offer(in.target, d, arrival, cutoff, farthest_changed);
+        });
     }
   }
 

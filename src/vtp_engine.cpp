@@ -253,23 +253,15 @@ void VtpEngine::start_point_source(std::uint32_t site) {
   const std::uint32_t id = mesh_.vertex_count + site;
   for_each_placement(mesh_, sources_[site].point, [&](const LocatedPoint& in_face) {
     const std::uint32_t f = in_face.face;
-    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
-      const auto [x, y] = position_in_frame(mesh_, in_face, h);
-      const HalfedgeGeometry& g = mesh_.halfedges[h];
-      // The corner opposite h is reached straight inside the face.
-      relax(mesh_.apex(h), length(g.apex_x - x, g.apex_y - y), Arrival{id, h, std::nan(""), x, y});
-      // A window from a point on the side's line would see it under a zero angle: the rays along the line
-      // reach the face beyond as another placement of the point, or through the side's ends.
-      const std::uint32_t across = mesh_.twin[h];
-      if (across == kNone || !(y > state_.tolerances.min_width) || !(g.length > state_.tolerances.min_width)) continue;
-      place_new_window(across, to_twin_frame(Window{0, g.length, x, -y, 0, id}, g.length,
-                                             mesh_.tail(across) != mesh_.tail(h)));
-    }
+    for_each_ray_from_point(
+        mesh_, in_face, id, 0.0, state_.tolerances.min_width,
+        [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
+        [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
     // Targets in the same face are reached straight.
     if (!state_.targets.in_faces()) return;
-    for (const auto& [t, target] : state_.targets.in_face(f))
-      reach_from_source_in_face(mesh_, in_face, id, target, [&](double d, const Arrival& arrival) {
-        state_.targets.offer(t, d, arrival, state_.cutoff, targets_changed_);
+    for (const RunTargets::InFace& in : state_.targets.in_face(f))
+      reach_from_source_in_face(mesh_, in_face, id, in.at, [&](double d, const Arrival& arrival) {
+        state_.targets.offer(in.target, d, arrival, state_.cutoff, targets_changed_);
       });
   });
 }

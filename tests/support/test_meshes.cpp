@@ -443,6 +443,23 @@ exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& ran
   return soup;
 }
 
+exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count) {
+  for (int i = 0; i < count; ++i) {
+    const std::size_t face = random.below(face_count(soup));
+    const int k = static_cast<int>(random.below(3));
+    const std::uint32_t a = soup.triangles[3 * face + k], b = soup.triangles[3 * face + (k + 1) % 3],
+                        c = soup.triangles[3 * face + (k + 2) % 3];
+    const double t = random.uniform(0.1, 0.9);
+    const Vec3 pa = vertex_position(soup, a), pb = vertex_position(soup, b);
+    const std::uint32_t m =
+        add_vertex(soup, {pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), pa[2] + t * (pb[2] - pa[2])});
+    soup.triangles[3 * face + (k + 1) % 3] = m;
+    add_triangle(soup, m, b, c);
+    add_triangle(soup, a, b, m);
+  }
+  return soup;
+}
+
 double max_finite(std::span<const double> values) {
   double largest = 0;
   for (double x : values)

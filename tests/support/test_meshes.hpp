@@ -163,6 +163,12 @@ exactgeo::MeshSoup random_sheet_with_fin(Random& random);
 exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& random, int count,
                                             std::vector<std::uint32_t>& stands_for);
 
+// The soup with `count` T-junctions closed by slivers: a random face (a, b, c) is cut at a point m of its side
+// ab (10% to 90% of the way) into (a, m, c) and (m, b, c), and a sliver (a, b, m), of no area, joins those to
+// the face beyond ab (or hangs on the boundary). Slivers may be cut again. The surface stays the same; m is
+// the point of ab where it lies.
+exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count);
+
 // ---- Distances -----------------------------------------------------------------------------------------
 
 // Largest finite value, or 0 if there is none.
