@@ -91,13 +91,13 @@ double FaceWindows::reach(const SurfaceMesh& mesh, std::span<const double> verte
     const auto first = std::partition_point(face_sources_.begin(), face_sources_.end(),
                                             [f](const FaceSource& s) { return s.face < f; });
     for (auto s = first; s != face_sources_.end() && s->face == f; ++s)
-      reach_from_source_in_face(mesh, s->point, s->id, in_face, keep_shortest);
+      reach_straight(mesh, s->point, s->id, 0.0, in_face, keep_shortest);
     for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) {
       const auto [qx, qy] = position_in_frame(mesh, in_face, h);
       for (const Window& w : entering(h)) reach_through_window(w, h, qx, qy, keep_shortest);
     }
-    for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-      reach_from_corner(mesh, h, vertex_distance[mesh.apex(h)], in_face, keep_shortest);
+    reach_from_corners(
+        mesh, f, [&](std::uint32_t v) { return vertex_distance[v]; }, in_face, keep_shortest);
   });
   return best;
 }

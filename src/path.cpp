@@ -306,14 +306,12 @@ class PathBuilder {
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
     if (std::isnan(arrival.crossing)) {  // straight to a corner or a source inside the face
-      // A pseudo-source is a vertex, here a corner or (at a T-junction's sliver) a point on a side.
-      if (pseudo_source != kNone) return pseudo_source;
       const std::uint32_t corner = corner_at(h, source);
-      if (corner == kNone)
+      if (corner == kNone)  // (a vertex on a side of the face, at a T-junction, is added after it again)
         add_face_point(h, source);
-      else  // a source point at a corner's place (on a side of no length)
+      else if (pseudo_source == kNone)  // a source point at a corner's place (on a side of no length)
         add_vertex(corner);
-      return kNone;
+      return pseudo_source;
     }
     if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))
       return v;
@@ -336,9 +334,8 @@ class PathBuilder {
       const double w_head = cross(source - c[0], c[2] - c[0]), w_apex = cross(c[1] - c[0], source - c[0]);
       const double tolerance = eps_ * std::max(norm(c[1] - c[0]), norm(c[2] - c[0]));
       if (w_head >= -tolerance && w_apex >= -tolerance && w_head + w_apex <= area + tolerance) {
-        if (pseudo_source != kNone) return end_piece_at(pseudo_source);  // a vertex on a side (a T-junction)
         add_face_point(h, source);
-        return kNone;
+        return pseudo_source;
       }
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through
       // the side from the head to the apex.

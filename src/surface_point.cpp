@@ -124,6 +124,39 @@ std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPo
   return placements;
 }
 
+std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32_t f) {
+  const double near = kMinWindowWidth * mesh.length_scale;
+  std::vector<VertexOnSide> found;
+  std::vector<std::uint32_t> faces = {f};  // looked into
+  std::vector<std::uint32_t> across;       // halfedges to look across, into their faces
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+    if (mesh.twin[h] != kNone) across.push_back(mesh.twin[h]);
+  while (!across.empty()) {
+    const std::uint32_t g = across.back();
+    across.pop_back();
+    if (std::ranges::find(faces, face_of(g)) != faces.end()) continue;
+    faces.push_back(face_of(g));
+    if (mesh.halfedges[g].apex_y > near) continue;  // a face with area: nothing on the side beyond it
+    // A face of no area: its third corner lies on the side's line, and on f's side if it has a placement in
+    // f; its other sides lie on that line too.
+    const std::uint32_t v = mesh.apex(g);
+    const bool corner_of_f =
+        mesh.corner_vertex[3 * f] == v || mesh.corner_vertex[3 * f + 1] == v || mesh.corner_vertex[3 * f + 2] == v;
+    if (!corner_of_f && std::ranges::none_of(found, [v](const VertexOnSide& o) { return o.vertex == v; })) {
+      LocatedPoint corner;
+      corner.face = face_of(g);
+      corner.barycentric = {0, 0, 0};
+      corner.barycentric[(g + 2) % 3] = 1;
+      for_each_placement(mesh, corner, [&](const LocatedPoint& at) {
+        if (at.face == f) found.push_back({v, at});
+      });
+    }
+    for (const std::uint32_t other : {next_halfedge(g), prev_halfedge(g)})
+      if (mesh.twin[other] != kNone) across.push_back(mesh.twin[other]);
+  }
+  return found;
+}
+
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
   const int i = static_cast<int>(h % 3);  // h runs from corner i (at the origin) to corner i + 1
   const HalfedgeGeometry& g = mesh.halfedges[h];

@@ -9,6 +9,7 @@
 
 #include "exactgeo/surface_point.hpp"
 #include "surface_mesh.hpp"
+#include "tolerances.hpp"
 
 namespace exactgeo::detail {
 
@@ -54,6 +55,29 @@ void for_each_placement(const SurfaceMesh& mesh, const LocatedPoint& point, Visi
     return;
   }
   for (const LocatedPoint& placement : placements_of(mesh, point)) visit(placement);
+}
+
+// A vertex on a side of a face that is not one of its corners (where a T-junction is closed by a sliver, a
+// face of no area along that side), and its place as a point of the face.
+struct VertexOnSide {
+  std::uint32_t vertex;
+  LocatedPoint at;
+};
+
+// The vertices on the sides of face f but its corners: the third corners of faces of no area across its sides
+// (and on across their sides) that lie on the side. Paths from them run straight into f, as from its corners.
+std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32_t f);
+
+// visit(vertex_on_side) for each of vertices_on_sides(mesh, f); a glance at the faces across f's sides for
+// nearly every face, which has none.
+template <class Visit>
+void for_each_vertex_on_sides(const SurfaceMesh& mesh, std::uint32_t f, Visit&& visit) {
+  const double near = kMinWindowWidth * mesh.length_scale;
+  bool any = false;
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
+    any |= mesh.twin[h] != kNone && !(mesh.halfedges[mesh.twin[h]].apex_y > near);
+  if (!any) return;
+  for (const VertexOnSide& on_side : vertices_on_sides(mesh, f)) visit(on_side);
 }
 
 // Which coordinates a position in space is given in: the input's, or the engine's frame (the input's times

@@ -42,15 +42,28 @@ void reach_from_corner(const SurfaceMesh& mesh, std::uint32_t h, double at_corne
   reached(at_corner + length(qx - g.apex_x, qy - g.apex_y), Arrival{mesh.apex(h), h, std::nan(""), g.apex_x, g.apex_y});
 }
 
-// Straight from a source inside the face (or on one of its edges), at `source` in that face and numbered `id`
-// as Arrival::from counts sources, when q is in the same face.
+// Straight from a point of the face (a source inside it or on one of its edges, or a vertex on one of its
+// sides: for_each_vertex_on_sides) at distance `at_from`, numbered `from_id` as Arrival::from counts, when q
+// is in the same face.
 template <class Reached>
-void reach_from_source_in_face(const SurfaceMesh& mesh, const LocatedPoint& source, std::uint32_t id,
-                               const LocatedPoint& q, Reached&& reached) {
-  const std::uint32_t h = 3 * source.face;
-  const auto [sx, sy] = position_in_frame(mesh, source, h);
+void reach_straight(const SurfaceMesh& mesh, const LocatedPoint& from, std::uint32_t from_id, double at_from,
+                    const LocatedPoint& q, Reached&& reached) {
+  if (at_from == HUGE_VAL) return;
+  const std::uint32_t h = 3 * from.face;
+  const auto [sx, sy] = position_in_frame(mesh, from, h);
   const auto [qx, qy] = position_in_frame(mesh, q, h);
-  reached(length(qx - sx, qy - sy), Arrival{id, h, std::nan(""), sx, sy});
+  reached(at_from + length(qx - sx, qy - sy), Arrival{from_id, h, std::nan(""), sx, sy});
+}
+
+// Straight from the face's corners, and from the vertices on its sides, at the distances distance_at(v)
+// gives.
+template <class DistanceAt, class Reached>
+void reach_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, const LocatedPoint& q,
+                        Reached&& reached) {
+  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) reach_from_corner(mesh, h, distance_at(mesh.apex(h)), q, reached);
+  for_each_vertex_on_sides(mesh, f, [&](const VertexOnSide& on_side) {
+    reach_straight(mesh, on_side.at, on_side.vertex, distance_at(on_side.vertex), q, reached);
+  });
 }
 
 class RunTargets {
@@ -128,16 +141,15 @@ class RunTargets {
     }
   }
 
-  // Paths that reach a target in face f straight from one of its corners, at the distances distance_at(v)
-  // gives.
+  // Paths that reach a target in face f straight from one of its corners (or a vertex on its sides), at the
+  // distances distance_at(v) gives.
   template <class DistanceAt>
   void evaluate_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, double cutoff,
                              bool& farthest_changed) {
     for (const InFace& in : in_face(f)) {
-      for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-        reach_from_corner(mesh, h, distance_at(mesh.apex(h)), in.at, [&](double d, const Arrival& arrival) {
-          offer(in.target, d, arrival, cutoff, farthest_changed);
-        });
+      reach_from_corners(mesh, f, distance_at, in.at, [&](double d, const Arrival& arrival) {
+        offer(in.target, d, arrival, cutoff, farthest_changed);
+      });
     }
   }
 

@@ -260,7 +260,7 @@ void VtpEngine::start_point_source(std::uint32_t site) {
     // Targets in the same face are reached straight.
     if (!state_.targets.in_faces()) return;
     for (const RunTargets::InFace& in : state_.targets.in_face(f))
-      reach_from_source_in_face(mesh_, in_face, id, in.at, [&](double d, const Arrival& arrival) {
+      reach_straight(mesh_, in_face, id, 0.0, in.at, [&](double d, const Arrival& arrival) {
         state_.targets.offer(in.target, d, arrival, state_.cutoff, targets_changed_);
       });
   });
