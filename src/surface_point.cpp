@@ -93,9 +93,11 @@ std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std
 }
 
 bool lies_on_side(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
-  if (h == point.edge) return true;
   const double length = mesh.halfedges[h].length, near = kMinWindowWidth * mesh.length_scale;
-  if (!(length > 0)) return false;  // a side of no length holds a point only as a corner
+  // A side of no length holds a point only at its ends: the point is at a vertex's place, which the face's
+  // other sides hold (across it, its place along the side would be 0 / 0).
+  if (!(length > 0)) return false;
+  if (h == point.edge) return true;
   const auto [x, y] = position_in_frame(mesh, point, h);
   return y <= near && x >= -near && x <= length + near;
 }
