@@ -1,7 +1,8 @@
 // The shadow cone of a pseudo-source (paper Section 5.2, "Saddle Vertices"): the directions around a vertex
 // into which a shortest path that arrived there can go on, at least pi from its arrival direction on both
 // sides, and the part of each opposite edge that rays in those directions reach. Only these get windows when
-// the vertex emits, which for_each_emission_part lists. Inline: the engine asks once per emission.
+// the vertex emits, which for_each_emission_part lists, and the rays of a point (a source, or a pseudo-source
+// on a side) across the faces that hold it. Inline: the engine asks once per emission.
 #pragma once
 
 #include <algorithm>
@@ -136,11 +137,8 @@ void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, 
     const std::uint32_t g = mesh.twin[opposite];
     if (g == kNone) continue;
     const HalfedgeGeometry& o = mesh.halfedges[opposite];
-    if (on_a_side.face == kNone && !(o.apex_y > min_width) && o.length > 0 && o.apex_x >= 0 && o.apex_x <= o.length) {
-      on_a_side.face = face_of(c);
-      on_a_side.barycentric = {0, 0, 0};
-      on_a_side.barycentric[c % 3] = 1;
-    }
+    if (on_a_side.face == kNone && !(o.apex_y > min_width) && lies_on_side(mesh, tail_as_point(c), opposite))
+      on_a_side = tail_as_point(c);
     const auto [b0, b1] = cone.part_of_opposite_edge(mesh, c);
     if (!(b1 - b0 > min_width)) continue;
     place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh.tail(g) != mesh.tail(opposite)));

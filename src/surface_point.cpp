@@ -6,7 +6,6 @@
 #include <string>
 
 #include "exactgeo/error.hpp"
-#include "tolerances.hpp"
 
 namespace exactgeo {
 namespace detail {
@@ -93,7 +92,7 @@ std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std
 }
 
 bool lies_on_side(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {
-  const double length = mesh.halfedges[h].length, near = kMinWindowWidth * mesh.length_scale;
+  const double length = mesh.halfedges[h].length, near = on_side_tolerance(mesh);
   // A side of no length holds a point only at its ends: the point is at a vertex's place, which the face's
   // other sides hold (across it, its place along the side would be 0 / 0).
   if (!(length > 0)) return false;
@@ -127,7 +126,7 @@ std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPo
 }
 
 std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32_t f) {
-  const double near = kMinWindowWidth * mesh.length_scale;
+  const double near = on_side_tolerance(mesh);
   std::vector<VertexOnSide> found;
   std::vector<std::uint32_t> faces = {f};  // looked into
   std::vector<std::uint32_t> across;       // halfedges to look across, into their faces
@@ -144,15 +143,10 @@ std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32
     const std::uint32_t v = mesh.apex(g);
     const bool corner_of_f =
         mesh.corner_vertex[3 * f] == v || mesh.corner_vertex[3 * f + 1] == v || mesh.corner_vertex[3 * f + 2] == v;
-    if (!corner_of_f && std::ranges::none_of(found, [v](const VertexOnSide& o) { return o.vertex == v; })) {
-      LocatedPoint corner;
-      corner.face = face_of(g);
-      corner.barycentric = {0, 0, 0};
-      corner.barycentric[(g + 2) % 3] = 1;
-      for_each_placement(mesh, corner, [&](const LocatedPoint& at) {
+    if (!corner_of_f && std::ranges::none_of(found, [v](const VertexOnSide& o) { return o.vertex == v; }))
+      for_each_placement(mesh, tail_as_point(prev_halfedge(g)), [&](const LocatedPoint& at) {
         if (at.face == f) found.push_back({v, at});
       });
-    }
     for (const std::uint32_t other : {next_halfedge(g), prev_halfedge(g)})
       if (mesh.twin[other] != kNone) across.push_back(mesh.twin[other]);
   }

@@ -32,6 +32,19 @@ LocatedPoint locate_checked(const SurfaceMesh& mesh, const SurfacePoint& point, 
 // Error(invalid_argument) if the index is out of range or the vertex is used by no face.
 std::span<const std::uint32_t> source_vertex_copies(const SurfaceMesh& mesh, std::uint32_t vertex);
 
+// How near a point must lie to a side's line to count as on it: the narrowest window the engine keeps
+// (kMinWindowWidth of the mesh's size), in the engine's frame.
+inline double on_side_tolerance(const SurfaceMesh& mesh) { return kMinWindowWidth * mesh.length_scale; }
+
+// The tail of halfedge h as a point of h's face (its corner there).
+inline LocatedPoint tail_as_point(std::uint32_t h) {
+  LocatedPoint corner;
+  corner.face = face_of(h);
+  corner.barycentric = {0, 0, 0};
+  corner.barycentric[h % 3] = 1;
+  return corner;
+}
+
 // Whether the point, a point of face(h), lies on h's side: located on it, or, rounding apart, within the
 // narrowest window (kMinWindowWidth of the mesh's size) of the segment, where the windows it would send
 // across h are too thin to be kept.
@@ -72,7 +85,7 @@ std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32
 // nearly every face, which has none.
 template <class Visit>
 void for_each_vertex_on_sides(const SurfaceMesh& mesh, std::uint32_t f, Visit&& visit) {
-  const double near = kMinWindowWidth * mesh.length_scale;
+  const double near = on_side_tolerance(mesh);
   bool any = false;
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
     any |= mesh.twin[h] != kNone && !(mesh.halfedges[mesh.twin[h]].apex_y > near);
