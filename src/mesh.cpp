@@ -11,6 +11,7 @@
 #include "exactgeo/mesh.hpp"
 #include "mesh_build.hpp"
 #include "surface_mesh.hpp"
+#include "surface_point.hpp"
 
 namespace exactgeo {
 namespace detail {
@@ -112,7 +113,10 @@ std::shared_ptr<const SurfaceMesh> build_from(TakeInput&& take_input, const Mesh
     choose_scale(team, *s);
     degenerate = compute_face_geometry(team, *s);
   });
-  step(&MeshBuildStats::fan_walk_seconds, 0.06, [&] { walk_vertices(team, *s, degenerate); });
+  step(&MeshBuildStats::fan_walk_seconds, 0.06, [&] {
+    walk_vertices(team, *s, degenerate);
+    list_vertices_on_sides(team, *s);
+  });
   degenerate = {};
   step(&MeshBuildStats::components_seconds, 0.06, [&] { report.components = count_components(team, *s); });
   report.surface_vertices = s->vertex_count;

@@ -48,6 +48,24 @@ Vec2 to_sibling_frame(const SurfaceMesh& mesh, std::uint32_t h, std::uint32_t e,
   return {dot(p - tail, u), cross(u, p - tail)};
 }
 
+// How far p, given in h's frame, lies from h's face (0 inside it).
+double distance_to_face(const SurfaceMesh& mesh, std::uint32_t h, Vec2 p) {
+  const std::array<Vec2, 3> c = corners_in_frame(mesh, h);
+  const double area = cross(c[1] - c[0], c[2] - c[0]);
+  if (area > 0 && cross(p - c[0], c[2] - c[0]) >= 0 && cross(c[1] - c[0], p - c[0]) >= 0 &&
+      cross(c[2] - c[1], p - c[1]) >= 0)
+    return 0;
+  // Outside the face (or the face has no area): the distance to the nearest of its sides.
+  double nearest = HUGE_VAL;
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 from = c[k], side = c[(k + 1) % 3] - c[k];
+    const double squared = dot(side, side);
+    const double t = squared > 0 ? std::clamp(dot(p - from, side) / squared, 0.0, 1.0) : 0;
+    nearest = std::min(nearest, norm(p - Vec2{from.x + t * side.x, from.y + t * side.y}));
+  }
+  return nearest;
+}
+
 // A point in the frame of halfedge e, re-expressed in the frame of its twin (the face across the edge).
 Vec2 to_twin(const SurfaceMesh& mesh, std::uint32_t e, Vec2 p) {
   const std::uint32_t t = mesh.twin[e];
@@ -229,31 +247,20 @@ class PathBuilder {
     add(p, location);
   }
 
-  // The point p of face(h), given in h's frame, as a surface point. A face with no area is a segment (or a
-  // point): p as a point of its longest side.
-  void add_face_point(std::uint32_t h, Vec2 p) {
-    const std::uint32_t f = face_of(h);
-    SurfacePoint point{surface_.surface_face_to_input[f], {0, 0, 0}};
-    const std::array<Vec2, 3> c = corners_in_frame(surface_, h);
-    const double area = cross(c[1] - c[0], c[2] - c[0]);
-    if (area > 0) {
-      const double to_head = cross(p - c[0], c[2] - c[0]) / area, to_apex = cross(c[1] - c[0], p - c[0]) / area;
-      point.barycentric[h % 3] = 1 - to_head - to_apex;  // by corner of h's frame: tail, head, apex
-      point.barycentric[(h + 1) % 3] = to_head;
-      point.barycentric[(h + 2) % 3] = to_apex;
-    } else {
-      std::uint32_t longest = 3 * f;
-      for (std::uint32_t e = 3 * f + 1; e < 3 * f + 3; ++e)
-        if (surface_.halfedges[e].length > surface_.halfedges[longest].length) longest = e;
-      const double length = surface_.halfedges[longest].length;
-      const double t = length > 0 ? std::clamp(to_sibling_frame(surface_, h, longest, p).x / length, 0.0, 1.0) : 0;
-      point.barycentric[longest % 3] = 1 - t;
-      point.barycentric[(longest + 1) % 3] = t;
-    }
+  // The source point numbered `id` as Arrival::from counts, where it is given: not where the piece's
+  // unfolding puts it, which may be off by the snapping distance (and in a face the point lies beside: in a
+  // sliver narrower than that, the point of its neighbour's side beside it).
+  void add_source_point(std::uint32_t id) {
+    const LocatedPoint& source = engine_.sources()[id - surface_.vertex_count].point;
     PathPointLocation location;
     location.kind = PathPointLocation::Kind::face;
-    location.face_point = point;
-    add(point_position(mesh_, point), location);
+    location.face_point = {surface_.surface_face_to_input[source.face], source.barycentric};
+    const std::array<double, 3> position = point_position(mesh_, location.face_point);
+    if (!path_.points.empty() && path_.points.back() == position) {  // the edge point the piece crossed last
+      path_.points.pop_back();
+      path_.locations.pop_back();
+    }
+    add(position, location);
   }
 
   // The corner of h's face within the snapping distance of p (in h's frame), if any.
@@ -305,12 +312,8 @@ class PathBuilder {
     piece_edge_points_.clear();
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
-    if (std::isnan(arrival.crossing)) {  // straight to a corner or a source inside the face
-      const std::uint32_t corner = corner_at(h, source);
-      if (corner == kNone)  // (a vertex on a side of the face, at a T-junction, is added after it again)
-        add_face_point(h, source);
-      else if (pseudo_source == kNone)  // a source point at a corner's place (on a side of no length)
-        add_vertex(corner);
+    if (std::isnan(arrival.crossing)) {  // straight from a corner, a vertex on a side, or a source point
+      if (pseudo_source == kNone) add_source_point(arrival.from);  // (a vertex is added next, by finish_from)
       return pseudo_source;
     }
     if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))
@@ -318,8 +321,11 @@ class PathBuilder {
     else if (v == kNone)
       add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
-    if (norm(source - entry) <= eps_)  // the pseudo-source is where the piece crosses
-      return pseudo_source == kNone ? kNone : end_piece_at(pseudo_source);
+    if (norm(source - entry) <= eps_) {  // the pseudo-source is where the piece crosses
+      if (pseudo_source != kNone) return end_piece_at(pseudo_source);
+      add_source_point(arrival.from);
+      return kNone;
+    }
     // Walk face by face: enter the face across h at `entry`, heading for `source` beyond it.
     const std::size_t limit = 2 * surface_.halfedges.size() + 8;
     for (std::size_t step = 0; step < limit; ++step) {
@@ -329,12 +335,11 @@ class PathBuilder {
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
       if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner);
-      // Inside the face (or on its far edges): a source point.
-      const double area = cross(c[1] - c[0], c[2] - c[0]);
-      const double w_head = cross(source - c[0], c[2] - c[0]), w_apex = cross(c[1] - c[0], source - c[0]);
-      const double tolerance = eps_ * std::max(norm(c[1] - c[0]), norm(c[2] - c[0]));
-      if (w_head >= -tolerance && w_apex >= -tolerance && w_head + w_apex <= area + tolerance) {
-        add_face_point(h, source);
+      // Inside the face (or on its far edges, up to the snapping distance): a source point. A distance, not
+      // weights with a slack: in a face narrower than the slack, slack on the weights holds every point near
+      // the face's line, far beyond its ends too.
+      if (distance_to_face(surface_, h, source) <= eps_) {
+        if (pseudo_source == kNone) add_source_point(arrival.from);
         return pseudo_source;
       }
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through

@@ -77,6 +77,17 @@ struct HalfedgeGeometry {
   double apex_y;
 };
 
+// A vertex that lies on a side of a face it is no corner of, as a point of that face: where a T-junction is
+// closed by a sliver (a face of no area along that side), or a vertex doubled in place is stitched back. Paths
+// from it run straight into the face, as from the face's corners.
+struct VertexOnSide {
+  std::uint32_t face;
+  std::uint32_t vertex;
+  std::uint32_t edge;                 // the halfedge of `face` whose side it lies on
+  std::array<double, 3> barycentric;  // by the face's corners
+  bool operator==(const VertexOnSide&) const = default;
+};
+
 struct SurfaceMesh {
   // The input as given (positions and the kept triangles, in input order).
   std::vector<double> input_positions;
@@ -144,6 +155,10 @@ struct SurfaceMesh {
   MeshArray<double> fan_total_angle;              // per vertex
   MeshArray<std::uint8_t> fan_closed;             // per vertex: no boundary edge around it
   MeshArray<std::uint8_t> fan_angles_reliable;    // per vertex
+
+  // Every vertex on a side of a face but its corners, sorted by face, then vertex (surface_point.cpp,
+  // list_vertices_on_sides): none on most meshes.
+  std::vector<VertexOnSide> vertices_on_sides;
 
   double length_scale = 1.0;  // bounding-box diagonal of the used vertices (in the engine's frame)
   double mean_edge_length = 0;  // over the halfedges (each inner edge counted twice)

@@ -125,32 +125,43 @@ std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPo
   return placements;
 }
 
-std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32_t f) {
+void list_vertices_on_sides(const ParallelTeam& team, SurfaceMesh& mesh) {
+  // The corners whose vertex lies on the side opposite them: few, found in one pass over the halfedges.
+  using Corners = std::vector<std::uint32_t>;
   const double near = on_side_tolerance(mesh);
-  std::vector<VertexOnSide> found;
-  std::vector<std::uint32_t> faces = {f};  // looked into
-  std::vector<std::uint32_t> across;       // halfedges to look across, into their faces
-  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-    if (mesh.twin[h] != kNone) across.push_back(mesh.twin[h]);
-  while (!across.empty()) {
-    const std::uint32_t g = across.back();
-    across.pop_back();
-    if (std::ranges::find(faces, face_of(g)) != faces.end()) continue;
-    faces.push_back(face_of(g));
-    if (mesh.halfedges[g].apex_y > near) continue;  // a face with area: nothing on the side beyond it
-    // A face of no area: its third corner lies on the side's line, and on f's side if it has a placement in
-    // f; its other sides lie on that line too.
-    const std::uint32_t v = mesh.apex(g);
-    const bool corner_of_f =
-        mesh.corner_vertex[3 * f] == v || mesh.corner_vertex[3 * f + 1] == v || mesh.corner_vertex[3 * f + 2] == v;
-    if (!corner_of_f && std::ranges::none_of(found, [v](const VertexOnSide& o) { return o.vertex == v; }))
-      for_each_placement(mesh, tail_as_point(prev_halfedge(g)), [&](const LocatedPoint& at) {
-        if (at.face == f) found.push_back({v, at});
+  const Corners on_opposite_side = team.reduce_ranges(
+      mesh.halfedges.size(), std::size_t{1} << 14, Corners{},
+      [&](std::size_t begin, std::size_t end) {
+        Corners found;
+        for (auto h = static_cast<std::uint32_t>(begin); h < end; ++h)
+          if (const std::uint32_t corner = prev_halfedge(h);
+              !(mesh.halfedges[h].apex_y > near) && lies_on_side(mesh, tail_as_point(corner), h))
+            found.push_back(corner);
+        return found;
+      },
+      [](Corners all, const Corners& part) {
+        all.insert(all.end(), part.begin(), part.end());
+        return all;
       });
-    for (const std::uint32_t other : {next_halfedge(g), prev_halfedge(g)})
-      if (mesh.twin[other] != kNone) across.push_back(mesh.twin[other]);
+  std::vector<VertexOnSide> found;
+  for (const std::uint32_t corner : on_opposite_side) {
+    const std::uint32_t v = mesh.tail(corner);
+    for (const LocatedPoint& at : placements_of(mesh, tail_as_point(corner))) {
+      const std::uint32_t f = at.face;
+      if (mesh.corner_vertex[3 * f] != v && mesh.corner_vertex[3 * f + 1] != v && mesh.corner_vertex[3 * f + 2] != v)
+        found.push_back({f, v, at.edge, at.barycentric});
+    }
   }
-  return found;
+  // A vertex on two sides of its own faces (a sliver of slivers) is found from each: keep one of each place.
+  std::ranges::sort(found, [](const VertexOnSide& a, const VertexOnSide& b) {
+    return a.face != b.face ? a.face < b.face : a.vertex < b.vertex;
+  });
+  found.erase(std::unique(found.begin(), found.end(),
+                          [](const VertexOnSide& a, const VertexOnSide& b) {
+                            return a.face == b.face && a.vertex == b.vertex;
+                          }),
+              found.end());
+  mesh.vertices_on_sides = std::move(found);
 }
 
 std::array<double, 2> position_in_frame(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h) {

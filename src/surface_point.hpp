@@ -1,6 +1,7 @@
 // Surface points located on the manifold surface the engine runs on.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "exactgeo/surface_point.hpp"
+#include "parallel.hpp"
 #include "surface_mesh.hpp"
 #include "tolerances.hpp"
 
@@ -70,27 +72,28 @@ void for_each_placement(const SurfaceMesh& mesh, const LocatedPoint& point, Visi
   for (const LocatedPoint& placement : placements_of(mesh, point)) visit(placement);
 }
 
-// A vertex on a side of a face that is not one of its corners (where a T-junction is closed by a sliver, a
-// face of no area along that side), and its place as a point of the face.
-struct VertexOnSide {
-  std::uint32_t vertex;
-  LocatedPoint at;
-};
+// Lists the mesh's vertices on the sides of faces they are no corner of (SurfaceMesh::vertices_on_sides): the
+// placements (placements_of) of the vertices that lie on the side opposite them in one of their faces, in
+// faces they are no corner of. A vertex's placements leave its own faces only through such a side, so these
+// are all, and they are where the engine sends its rays (shadow_cone.hpp, for_each_emission_part). A step of
+// the build (mesh.cpp), once the faces' geometry is known.
+void list_vertices_on_sides(const ParallelTeam& team, SurfaceMesh& mesh);
 
-// The vertices on the sides of face f but its corners: the third corners of faces of no area across its sides
-// (and on across their sides) that lie on the side. Paths from them run straight into f, as from its corners.
-std::vector<VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32_t f);
+// The vertices on the sides of face f but its corners (most faces have none; a glance when the mesh has none).
+inline std::span<const VertexOnSide> vertices_on_sides(const SurfaceMesh& mesh, std::uint32_t f) {
+  const auto& all = mesh.vertices_on_sides;
+  const auto first = std::partition_point(all.begin(), all.end(), [f](const VertexOnSide& o) { return o.face < f; });
+  const auto last = std::partition_point(first, all.end(), [f](const VertexOnSide& o) { return o.face == f; });
+  return {first, last};
+}
 
-// visit(vertex_on_side) for each of vertices_on_sides(mesh, f); a glance at the faces across f's sides for
-// nearly every face, which has none.
-template <class Visit>
-void for_each_vertex_on_sides(const SurfaceMesh& mesh, std::uint32_t f, Visit&& visit) {
-  const double near = on_side_tolerance(mesh);
-  bool any = false;
-  for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h)
-    any |= mesh.twin[h] != kNone && !(mesh.halfedges[mesh.twin[h]].apex_y > near);
-  if (!any) return;
-  for (const VertexOnSide& on_side : vertices_on_sides(mesh, f)) visit(on_side);
+// A vertex on a side of a face, as a point of that face.
+inline LocatedPoint as_point(const VertexOnSide& on_side) {
+  LocatedPoint point;
+  point.face = on_side.face;
+  point.barycentric = on_side.barycentric;
+  point.edge = on_side.edge;
+  return point;
 }
 
 // Which coordinates a position in space is given in: the input's, or the engine's frame (the input's times

@@ -43,7 +43,7 @@ void reach_from_corner(const SurfaceMesh& mesh, std::uint32_t h, double at_corne
 }
 
 // Straight from a point of the face (a source inside it or on one of its edges, or a vertex on one of its
-// sides: for_each_vertex_on_sides) at distance `at_from`, numbered `from_id` as Arrival::from counts, when q
+// sides: vertices_on_sides) at distance `at_from`, numbered `from_id` as Arrival::from counts, when q
 // is in the same face.
 template <class Reached>
 void reach_straight(const SurfaceMesh& mesh, const LocatedPoint& from, std::uint32_t from_id, double at_from,
@@ -61,9 +61,8 @@ template <class DistanceAt, class Reached>
 void reach_from_corners(const SurfaceMesh& mesh, std::uint32_t f, DistanceAt&& distance_at, const LocatedPoint& q,
                         Reached&& reached) {
   for (std::uint32_t h = 3 * f; h < 3 * f + 3; ++h) reach_from_corner(mesh, h, distance_at(mesh.apex(h)), q, reached);
-  for_each_vertex_on_sides(mesh, f, [&](const VertexOnSide& on_side) {
-    reach_straight(mesh, on_side.at, on_side.vertex, distance_at(on_side.vertex), q, reached);
-  });
+  for (const VertexOnSide& on_side : vertices_on_sides(mesh, f))
+    reach_straight(mesh, as_point(on_side), on_side.vertex, distance_at(on_side.vertex), q, reached);
 }
 
 class RunTargets {

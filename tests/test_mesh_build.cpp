@@ -68,6 +68,7 @@ testing::AssertionResult same_surface(const SurfaceMesh& a, const SurfaceMesh& b
   check(same_bits(a.fan_total_angle, b.fan_total_angle), "fan_total_angle");
   check(a.fan_closed == b.fan_closed, "fan_closed");
   check(a.fan_angles_reliable == b.fan_angles_reliable, "fan_angles_reliable");
+  check(a.vertices_on_sides == b.vertices_on_sides, "vertices_on_sides");
   const double a_scales[] = {a.length_scale, a.mean_edge_length}, b_scales[] = {b.length_scale, b.mean_edge_length};
   check(same_bits(a_scales, b_scales), "length scales");
   if (differs.empty()) return testing::AssertionSuccess();
@@ -137,6 +138,11 @@ TEST(MeshBuild, HeightFieldsBuildTheSameOnAnyTeam) {
                             "height field " + std::to_string(i));
   // Several of the geometry's blocks of faces, whose lengths are summed block by block.
   expect_same_on_any_team(exactgeo_test::random_height_field(random, 61, 37, 0.5, true), "larger height field");
+  // T-junctions closed by slivers: their vertices are listed on the sides of the faces beyond.
+  const MeshSoup junctions =
+      exactgeo_test::with_t_junctions(exactgeo_test::random_height_field(random, 40, 30, 0.5, true), random, 300);
+  EXPECT_FALSE(build(junctions, false, 1, 0)->vertices_on_sides.empty());
+  expect_same_on_any_team(junctions, "height field with T-junctions");
 }
 
 // The mean edge length is summed in blocks of faces on the team: it is still the mean of the halfedges'

@@ -443,7 +443,7 @@ exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& ran
   return soup;
 }
 
-exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count) {
+exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count, double lift) {
   for (int i = 0; i < count; ++i) {
     const std::size_t face = random.below(face_count(soup));
     const int k = static_cast<int>(random.below(3));
@@ -451,8 +451,18 @@ exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int
                         c = soup.triangles[3 * face + (k + 2) % 3];
     const double t = random.uniform(0.1, 0.9);
     const Vec3 pa = vertex_position(soup, a), pb = vertex_position(soup, b);
-    const std::uint32_t m =
-        add_vertex(soup, {pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), pa[2] + t * (pb[2] - pa[2])});
+    Vec3 at{pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1]), pa[2] + t * (pb[2] - pa[2])};
+    if (lift != 0) {
+      // Off the line ab along the face's normal, by `lift` of the side's length.
+      const Vec3 pc = vertex_position(soup, c);
+      const Vec3 ab{pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]}, ac{pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+      const Vec3 normal{ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0]};
+      const double scale = lift * std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]) /
+                           std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+      if (std::isfinite(scale))
+        for (int i = 0; i < 3; ++i) at[i] += scale * normal[i];
+    }
+    const std::uint32_t m = add_vertex(soup, at);
     soup.triangles[3 * face + (k + 1) % 3] = m;
     add_triangle(soup, m, b, c);
     add_triangle(soup, a, b, m);

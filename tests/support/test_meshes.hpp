@@ -166,8 +166,9 @@ exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& ran
 // The soup with `count` T-junctions closed by slivers: a random face (a, b, c) is cut at a point m of its side
 // ab (10% to 90% of the way) into (a, m, c) and (m, b, c), and a sliver (a, b, m), of no area, joins those to
 // the face beyond ab (or hangs on the boundary). Slivers may be cut again. The surface stays the same; m is
-// the point of ab where it lies.
-exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count);
+// the point of ab where it lies. With a `lift`, m is moved off the line along the face's normal by that share of
+// ab's length (near-slivers: the surface moves by as much).
+exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count, double lift = 0);
 
 // ---- Distances -----------------------------------------------------------------------------------------
 
