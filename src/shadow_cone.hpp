@@ -137,17 +137,15 @@ void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, 
     const std::uint32_t g = mesh.twin[opposite];
     if (g == kNone) continue;
     const HalfedgeGeometry& o = mesh.halfedges[opposite];
-    if (on_a_side.face == kNone && !(o.apex_y > min_width) && lies_on_side(mesh, tail_as_point(c), opposite))
-      on_a_side = tail_as_point(c);
+    if (on_a_side.face == kNone && lies_on_opposite_side(mesh, c)) on_a_side = tail_as_point(c);
     const auto [b0, b1] = cone.part_of_opposite_edge(mesh, c);
     if (!(b1 - b0 > min_width)) continue;
     place(g, to_twin_frame(Window{b0, b1, o.apex_x, -o.apex_y, d, v}, o.length, mesh.tail(g) != mesh.tail(opposite)));
   }
   if (on_a_side.face == kNone) return;
   for_each_placement(mesh, on_a_side, [&](const LocatedPoint& in_face) {
-    for (std::uint32_t h = 3 * in_face.face; h < 3 * in_face.face + 3; ++h)
-      if (mesh.tail(h) == v) return;  // a face of v's fan, done above
-    for_each_ray_from_point(mesh, in_face, v, d, min_width, offer, place);
+    if (!mesh.has_corner(in_face.face, v))  // the faces of v's fan are done above
+      for_each_ray_from_point(mesh, in_face, v, d, min_width, offer, place);
   });
 }
 

@@ -190,6 +190,9 @@ struct SurfaceMesh {
   std::uint32_t tail(std::uint32_t h) const { return corner_vertex[h]; }
   std::uint32_t head(std::uint32_t h) const { return corner_vertex[next_halfedge(h)]; }
   std::uint32_t apex(std::uint32_t h) const { return corner_vertex[prev_halfedge(h)]; }
+  bool has_corner(std::uint32_t f, std::uint32_t v) const {
+    return corner_vertex[3 * f] == v || corner_vertex[3 * f + 1] == v || corner_vertex[3 * f + 2] == v;
+  }
 };
 
 }  // namespace exactgeo::detail

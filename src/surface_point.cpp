@@ -126,17 +126,14 @@ std::vector<LocatedPoint> placements_of(const SurfaceMesh& mesh, const LocatedPo
 }
 
 void list_vertices_on_sides(const ParallelTeam& team, SurfaceMesh& mesh) {
-  // The corners whose vertex lies on the side opposite them: few, found in one pass over the halfedges.
+  // The corners whose vertex lies on the side opposite them: few, found in one pass over the corners.
   using Corners = std::vector<std::uint32_t>;
-  const double near = on_side_tolerance(mesh);
   const Corners on_opposite_side = team.reduce_ranges(
-      mesh.halfedges.size(), std::size_t{1} << 14, Corners{},
+      mesh.corner_vertex.size(), std::size_t{1} << 14, Corners{},
       [&](std::size_t begin, std::size_t end) {
         Corners found;
-        for (auto h = static_cast<std::uint32_t>(begin); h < end; ++h)
-          if (const std::uint32_t corner = prev_halfedge(h);
-              !(mesh.halfedges[h].apex_y > near) && lies_on_side(mesh, tail_as_point(corner), h))
-            found.push_back(corner);
+        for (auto c = static_cast<std::uint32_t>(begin); c < end; ++c)
+          if (lies_on_opposite_side(mesh, c)) found.push_back(c);
         return found;
       },
       [](Corners all, const Corners& part) {
@@ -146,11 +143,8 @@ void list_vertices_on_sides(const ParallelTeam& team, SurfaceMesh& mesh) {
   std::vector<VertexOnSide> found;
   for (const std::uint32_t corner : on_opposite_side) {
     const std::uint32_t v = mesh.tail(corner);
-    for (const LocatedPoint& at : placements_of(mesh, tail_as_point(corner))) {
-      const std::uint32_t f = at.face;
-      if (mesh.corner_vertex[3 * f] != v && mesh.corner_vertex[3 * f + 1] != v && mesh.corner_vertex[3 * f + 2] != v)
-        found.push_back({f, v, at.edge, at.barycentric});
-    }
+    for (const LocatedPoint& at : placements_of(mesh, tail_as_point(corner)))
+      if (!mesh.has_corner(at.face, v)) found.push_back({at.face, v, at.edge, at.barycentric});
   }
   // A vertex on two sides of its own faces (a sliver of slivers) is found from each: keep one of each place.
   std::ranges::sort(found, [](const VertexOnSide& a, const VertexOnSide& b) {

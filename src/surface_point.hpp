@@ -52,6 +52,13 @@ inline LocatedPoint tail_as_point(std::uint32_t h) {
 // across h are too thin to be kept.
 bool lies_on_side(const SurfaceMesh& mesh, const LocatedPoint& point, std::uint32_t h);
 
+// Whether the vertex at corner c (the tail of halfedge c) lies on the side opposite it in c's face: a
+// T-junction's vertex on its sliver's long side. A glance at that side's apex height for nearly every corner.
+inline bool lies_on_opposite_side(const SurfaceMesh& mesh, std::uint32_t c) {
+  const std::uint32_t opposite = next_halfedge(c);
+  return !(mesh.halfedges[opposite].apex_y > on_side_tolerance(mesh)) && lies_on_side(mesh, tail_as_point(c), opposite);
+}
+
 // Every face that holds the point, with the point as a point of that face, its own face first: the faces
 // across the sides it lies on, and on across those faces' sides. Straight rays from the point reach into each
 // of them. Beyond the face across an edge, this matters where faces have no area (a vertex doubled in place
