@@ -154,7 +154,8 @@ const GeodesicResult& GeodesicSolver::run(std::span<const detail::SourceSite> si
       continue;
     }
     const double distance = engine.target_distances()[t];
-    if (!(distance <= cutoff)) continue;
+    if (std::isinf(distance) || !(distance <= cutoff))
+      continue;  // unreached (+inf <= an infinite cut-off), or beyond it
     result.target_distances[t] = surface.to_input_length(distance);
     result.target_nearest_source[t] =
         labels.empty() ? 0u : detail::label_of(engine, engine.target_arrivals()[t].from, labels);

@@ -32,7 +32,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
                     const GeodesicOptions& options) {
   options_ = options;
   options_.max_distance = mesh_.to_engine_length(options.max_distance);  // the cut-off in the engine's frame
-  face_sorted_ = options.algorithm == Algorithm::ftp || options.algorithm == Algorithm::opftp;
+  face_sorted_ = sorts_faces(options.algorithm);
   order_preserving_ = options.algorithm == Algorithm::opvtp || options.algorithm == Algorithm::opftp;
   state_.tolerances = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale,
                        kReemitTolerance * mesh_.length_scale};

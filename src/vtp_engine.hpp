@@ -33,6 +33,9 @@
 
 namespace exactgeo::detail {
 
+// The face-sorted variants (FTP, OPFTP): a queue of triangles, not of vertices.
+inline bool sorts_faces(Algorithm algorithm) { return algorithm == Algorithm::ftp || algorithm == Algorithm::opftp; }
+
 class FaceWindows;  // face_windows.hpp
 
 // A source of a run: a surface vertex (point.vertex set) or a point inside a face or on an edge, and the

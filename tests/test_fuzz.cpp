@@ -15,8 +15,9 @@
 // (Fuzz.ThinTrianglesOnThreadsAgreeWithOneThread) holds several threads to one thread's distances on
 // triangles up to 10^4 times longer than wide. A fourth (Fuzz.PointQueriesPairsAndLocateAgreeWithTargetRuns)
 // holds the answers at any surface point (kept windows, pair_distances, locate) to runs with those points as
-// targets and to a brute-force closest point; a fifth (Fuzz.PointQueriesOnJunctions) does so on the junction
-// meshes, whose distances must also be those of the same surface without its zero-area stitches.
+// targets and to a brute-force closest point, and the labels of several sources, distance matrices and
+// sources located from their positions to single runs; a fifth (Fuzz.PointQueriesOnJunctions) does so on the
+// junction meshes, whose distances must also be those of the same surface without its zero-area stitches.
 // The default run takes a few seconds. EXACTGEO_FUZZ_CASES sets the number of cases of each test (`make fuzz`
 // runs 20000) and EXACTGEO_FUZZ_SEED the first seed: a failure names its seed, and
 // EXACTGEO_FUZZ_SEED=S EXACTGEO_FUZZ_CASES=1 runs that case alone.
@@ -37,6 +38,7 @@
 #include "closest_point_reference.hpp"
 #include "exactgeo/error.hpp"
 #include "exactgeo/geodesic.hpp"
+#include "exactgeo/many_sources.hpp"
 #include "exactgeo/mesh.hpp"
 #include "exactgeo/pairs.hpp"
 #include "exactgeo/shapes.hpp"
@@ -576,7 +578,10 @@ TEST(Fuzz, ThinTrianglesOnThreadsAgreeWithOneThread) {
 // (seed 422: 0.707 for 0.887); and where a vertex lay on a face's side just within the on-side tolerance
 // through a sliver a hair higher than it, targets in that face were not reached straight from it (seed 986:
 // 0.690 for 0.661; the vertices on sides are now listed once at the build from the vertices' own placements,
-// src/surface_point.cpp). 6,000 seeds pass since.
+// src/surface_point.cpp). 6,000 seeds pass since. The labels, matrices and located sources, when added, found
+// an unreached target labelled with source 0 (an infinite distance passed the test against an infinite
+// cut-off: junction seed 3, src/geodesic.cpp) and a matrix whose columns named a vertex no face uses throwing
+// "vertex 98 is used by no face" where the full matrix has +inf (seed 13, src/many_sources.cpp).
 constexpr std::uint64_t kDefaultPointCases = 60;
 constexpr std::uint64_t kDefaultJunctionPointCases = 200;  // small meshes: about a millisecond each
 constexpr double kQueries = 1e-14;  // what distance_at and pair_distances promise against targets-mode runs
@@ -655,6 +660,85 @@ struct SameSurface {
   int crossings = 0;  // how many places a geodesic may cross where they differ (each costs up to 2 * moved)
 };
 
+// The labels of a run from several sources: at every vertex and point its nearest source is one whose own
+// distance there is the run's (within `tolerance`), and that distance is the nearest of the sources' own; none
+// where the distance is +inf. `run` is from the sources alone (keeping windows), `as_targets` with the points.
+void check_labels(const Mesh& mesh, std::span<const exactgeo::SurfacePoint> sources,
+                  std::span<const exactgeo::SurfacePoint> points, const GeodesicOptions& keeping,
+                  const exactgeo::GeodesicResult& run, const exactgeo::GeodesicResult& as_targets, double tolerance,
+                  const std::string& variant, Failures& failures) {
+  std::vector<std::vector<double>> at_vertices, at_points;  // per source
+  for (const exactgeo::SurfacePoint& source : sources) {
+    exactgeo::GeodesicSolver alone(mesh);
+    at_vertices.push_back(alone.solve(std::span(&source, 1), {}, keeping).distances);
+    at_points.push_back(alone.distance_at(points));
+  }
+  const auto check = [&](const std::string& where, double distance, std::uint32_t label,
+                         const std::vector<std::vector<double>>& own, std::size_t k) {
+    double nearest = HUGE_VAL;
+    for (const auto& distances : own) nearest = std::min(nearest, distances[k]);
+    if (!within(distance, nearest, tolerance))
+      failures.add(where + "distance " + number(distance) + ", the nearest source's own " + number(nearest));
+    else if (std::isinf(distance) ? label != exactgeo::kNoSource
+                                  : label >= own.size() || !within(own[label][k], distance, tolerance))
+      failures.add(where + "labelled with source " + std::to_string(label) + " at distance " + number(distance) +
+                   (label < own.size() ? ", which has " + number(own[label][k]) + " there" : ""));
+  };
+  for (std::size_t v = 0; v < run.distances.size(); ++v)
+    check(variant + "vertex " + std::to_string(v) + ": ", run.distances[v], run.nearest_source[v], at_vertices, v);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    check(variant + "point " + std::to_string(i) + " as a target: ", as_targets.target_distances[i],
+          as_targets.target_nearest_source[i], at_points, i);
+}
+
+// Rows of a distance matrix from a few vertices, on a few threads, to every vertex or to a random block of
+// columns, perhaps with a cut-off: each row the run from its vertex on one thread, bit for bit, and the sparse
+// matrix its finite entries.
+void check_matrix(const Mesh& mesh, const MeshSoup& soup, const GeodesicOptions& one_search, Random& random,
+                  double largest, const std::string& variant, Failures& failures) {
+  const std::size_t vertices = exactgeo_test::vertex_count(soup);
+  std::vector<std::uint32_t> rows_from;
+  for (int i = 0; i < 3; ++i) rows_from.push_back(exactgeo_test::random_source_vertex(soup, random.below(1u << 30)));
+  exactgeo::MatrixOptions options{.geodesic = one_search, .threads = 1 + static_cast<unsigned>(random.below(3))};
+  std::vector<std::uint32_t> columns(vertices);
+  std::iota(columns.begin(), columns.end(), 0u);
+  if (random.below(2) == 0) {
+    columns.resize(1 + random.below(8));
+    for (std::uint32_t& column : columns) column = static_cast<std::uint32_t>(random.below(vertices));
+    options.target_vertices = columns;
+  }
+  if (random.below(3) == 0) options.geodesic.max_distance = random.uniform(0.1, 0.9) * largest;
+  const std::string where = variant + "matrix (" + std::to_string(columns.size()) + " columns" +
+                            (std::isinf(options.geodesic.max_distance) ? "" : ", cut off") + "): ";
+  const std::vector<double> matrix = exactgeo::distance_matrix(mesh, rows_from, options);
+  const exactgeo::SparseDistances sparse = exactgeo::sparse_distance_matrix(mesh, rows_from, options);
+  std::size_t finite = 0;
+  for (std::size_t r = 0; r < rows_from.size(); ++r) {
+    exactgeo::GeodesicSolver alone(mesh);
+    const std::vector<double>& row = alone.solve(std::span(&rows_from[r], 1), {}, options.geodesic).distances;
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const double entry = matrix[r * columns.size() + k];
+      if (!(entry == row[columns[k]])) {  // +inf == +inf
+        failures.add(where + "row " + std::to_string(r) + " (vertex " + std::to_string(rows_from[r]) + "), vertex " +
+                     std::to_string(columns[k]) + ": " + number(entry) + ", the run from the vertex " +
+                     number(row[columns[k]]));
+        return;
+      }
+      if (std::isinf(entry)) continue;
+      if (finite >= sparse.distance.size() || sparse.row[finite] != r || sparse.column[finite] != k ||
+          sparse.distance[finite] != entry) {
+        failures.add(where + "the sparse matrix's entry " + std::to_string(finite) + " is not row " +
+                     std::to_string(r) + ", column " + std::to_string(k) + ": " + number(entry));
+        return;
+      }
+      ++finite;
+    }
+  }
+  if (sparse.distance.size() != finite || sparse.rows != rows_from.size() || sparse.columns != columns.size())
+    failures.add(where + "the sparse matrix has " + std::to_string(sparse.distance.size()) +
+                 " entries, the dense one " + std::to_string(finite) + " finite");
+}
+
 // Every check of one seed's mesh, sources and points. Given the same surface meshed another way, the distances
 // at the points and between the pairs must also be its. Where edges are cut at non-manifold junctions the
 // locate round trip does not hold (a point on such an edge is a different point on each side).
@@ -687,12 +771,15 @@ bool check_point_case(std::uint64_t seed, Random& random, const FuzzCase& c, con
   Failures failures;
   try {
     exactgeo::GeodesicSolver targeted(mesh);
-    const std::vector<double> expected = targeted.solve(sources, points, options).target_distances;
+    const exactgeo::GeodesicResult& as_targets = targeted.solve(sources, points, options);
+    const std::vector<double> expected = as_targets.target_distances;
     exactgeo::GeodesicSolver kept(mesh);
     GeodesicOptions keeping = options;
     keeping.keep_windows = true;
-    const double largest = exactgeo_test::max_finite(kept.solve(sources, {}, keeping).distances);
+    const exactgeo::GeodesicResult& run = kept.solve(sources, {}, keeping);
+    const double largest = exactgeo_test::max_finite(run.distances);
     const std::vector<double> at = kept.distance_at(points);
+    check_labels(mesh, sources, points, keeping, run, as_targets, kQueries * largest, variant, failures);
     for (std::size_t i = 0; i < points.size(); ++i) {
       const std::string where =
           variant + "point " + std::to_string(i) + " (face " + std::to_string(points[i].face) + "): ";
@@ -759,6 +846,26 @@ bool check_point_case(std::uint64_t seed, Random& random, const FuzzCase& c, con
                !within(back_at[i], at[i], kRounding * std::max(largest, diagonal) + (same ? 2 * same->moved : 0)))
         failures.add(where + "distance " + number(back_at[i]) + ", where it was " + number(at[i]));
     }
+
+    // The sources given by where they lie in space (the command line's --source-xyz): located, the same
+    // distances. Not where edges are cut at junctions: a point on a cut edge is a different point on each side.
+    if (!(same && same->cut_at_junctions)) {
+      std::vector<double> source_positions;
+      for (const exactgeo::SurfacePoint& source : sources) {
+        const std::array<double, 3> p = exactgeo::point_position(mesh, source);
+        source_positions.insert(source_positions.end(), p.begin(), p.end());
+      }
+      exactgeo::GeodesicSolver from_located(mesh);
+      const std::vector<double>& located_distances =
+          from_located.solve(exactgeo::locate(mesh, source_positions).points, points, options).target_distances;
+      for (std::size_t i = 0; i < points.size(); ++i)
+        if (!within(located_distances[i], expected[i],
+                    kRounding * std::max(largest, diagonal) + (same ? 2 * same->moved : 0)))
+          failures.add(variant + "point " + std::to_string(i) + ": from the sources located back " +
+                       number(located_distances[i]) + ", from the sources " + number(expected[i]));
+    }
+
+    check_matrix(mesh, soup, one_search, random, largest, variant, failures);
 
     // The same sources and points on the same surface meshed another way.
     if (same) {

@@ -127,6 +127,27 @@ TEST(DistanceMatrix, NearTargetsStopTheRunsEarly) {
   EXPECT_NEAR(near[0], std::sqrt(2.0), 1e-12);
 }
 
+// A column of a vertex no face uses is +inf, as in the full matrix (it threw "vertex N is used by no face").
+TEST(DistanceMatrix, ColumnsOfVerticesNoFaceUsesAreInfinite) {
+  exactgeo::MeshSoup soup = exactgeo::make_grid(3, 3, 3, 3);
+  const auto unused = exactgeo_test::add_vertex(soup, {1, 1, 5});
+  const Mesh mesh(soup);
+  const std::vector<std::uint32_t> sources = {0, 5};
+  const std::vector<double> full = exactgeo::distance_matrix(mesh, sources);
+  for (const std::vector<std::uint32_t>& targets :
+       {std::vector<std::uint32_t>{unused, 4, unused}, std::vector{unused}}) {
+    MatrixOptions options;
+    options.target_vertices = targets;
+    const std::vector<double> block = exactgeo::distance_matrix(mesh, sources, options);
+    ASSERT_EQ(block.size(), sources.size() * targets.size());
+    for (std::size_t i = 0; i < sources.size(); ++i)
+      for (std::size_t t = 0; t < targets.size(); ++t)
+        EXPECT_EQ(block[i * targets.size() + t], full[i * mesh.vertex_count() + targets[t]])
+            << "row " << i << " target " << t;
+    EXPECT_EQ(block[0], HUGE_VAL);
+  }
+}
+
 TEST(DistanceMatrix, BadOrNoTargets) {
   const Mesh& mesh = torus();
   const std::vector<std::uint32_t> sources = {0, 1};

@@ -372,6 +372,21 @@ TEST_P(MeshPolicy, TwoComponentsLeaveTheOtherAtInfinity) {
     for (std::uint32_t v = 0; v < vertex_count(soup); ++v)
       EXPECT_EQ(result.nearest_source[v], same_part(v) ? 0u : exactgeo::kNoSource) << "vertex " << v;
   }
+  // Targets inside a face of each part, from one source and from two: the other part's is +inf, of no source
+  // (it was labelled with source 0: an unreached target's +inf passed the test against an infinite cut-off).
+  const exactgeo::Mesh mesh(soup);
+  const auto first_part_faces = static_cast<std::uint32_t>(face_count(unit_grid(4)));
+  const std::vector<exactgeo::SurfacePoint> targets = {{3, {0.2, 0.3, 0.5}}, {first_part_faces + 5, {0.6, 0.1, 0.3}}};
+  for (const std::vector<std::uint32_t>& sources : {std::vector<std::uint32_t>{7}, std::vector<std::uint32_t>{7, 2}}) {
+    SCOPED_TRACE(testing::Message() << sources.size() << " sources");
+    exactgeo::GeodesicSolver solver(mesh);
+    const exactgeo::GeodesicResult& result = solver.solve(sources, targets, GetParam());
+    EXPECT_TRUE(std::isfinite(result.target_distances[0]));
+    EXPECT_LT(result.target_nearest_source[0], sources.size());
+    EXPECT_EQ(result.target_distances[1], HUGE_VAL);
+    EXPECT_EQ(result.target_nearest_source[1], exactgeo::kNoSource);
+    EXPECT_TRUE(solver.path_to_target(1).points.empty());
+  }
 }
 
 TEST_P(MeshPolicy, SourcesOnTheBoundary) {

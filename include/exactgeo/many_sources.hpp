@@ -21,9 +21,10 @@ struct MatrixOptions {
   unsigned threads = 0;        // worker threads; 0: one per core
   std::size_t block_rows = 0;  // rows computed before they are handed over; 0: 4 per thread
   // The columns: these input vertices, in their order (a sources x targets block; each run stops as soon as
-  // they are final, so nearby targets cost a fraction of a full row). Unset: every input vertex. A column
-  // holds the same values as that vertex's column of the full matrix, bit for bit; with max_distance,
-  // targets beyond it are +inf like any vertex (run without max_distance to have them all).
+  // they are final, so nearby targets cost a fraction of a full row; the face-sorted variants run whole rows).
+  // Unset: every input vertex. A column holds the same values as that vertex's column of the full matrix, bit
+  // for bit (+inf for a vertex no face uses); with max_distance, targets beyond it are +inf like any vertex (run
+  // without max_distance to have them all).
   std::optional<std::vector<std::uint32_t>> target_vertices{};
 };
 

@@ -112,6 +112,11 @@ def test_unreachable_and_unused_vertices_are_inf_with_no_nearest_source():
     np.testing.assert_array_equal(np.isinf(distances), [False, False, False, True, True, True, True])
     np.testing.assert_array_equal(nearest, [0, 0, 0, -1, -1, -1, -1])
     assert exactgeo.distance(mesh, 0, targets=[4, 1]).tolist() == [np.inf, 1.0]
+    # A target inside a face of the other piece: no nearest source either, from one source or from two.
+    for sources in (0, [0, 1]):
+        result = exactgeo.GeodesicSolver(mesh).solve(sources, targets=[exactgeo.SurfacePoint(1, (0.2, 0.3, 0.5))])
+        assert result.target_distances.tolist() == [np.inf]
+        assert result.target_nearest_source.tolist() == [-1]
 
 
 def test_max_distance_cuts_off_and_costs_less(sheet):
