@@ -3,6 +3,7 @@
 // source.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -263,6 +264,23 @@ class PathBuilder {
     add(position, location);
   }
 
+  // Whether the source point numbered `id` (as Arrival::from counts) lies in face f: f is the face it was
+  // given in or another that holds it (on a side or at a corner).
+  bool source_in_face(std::uint32_t id, std::uint32_t f) const {
+    const LocatedPoint& source = engine_.sources()[id - surface_.vertex_count].point;
+    bool holds = source.face == f;
+    if (!holds)
+      for_each_placement(surface_, source,
+                         [&](const LocatedPoint& placement) { holds = holds || placement.face == f; });
+    return holds;
+  }
+
+  // Whether vertex v lies on a side of face f (a T-junction's vertex, SurfaceMesh::vertices_on_sides).
+  bool vertex_on_side(std::uint32_t v, std::uint32_t f) const {
+    const auto on_sides = vertices_on_sides(surface_, f);
+    return std::any_of(on_sides.begin(), on_sides.end(), [&](const VertexOnSide& on) { return on.vertex == v; });
+  }
+
   // The corner of h's face within the snapping distance of p (in h's frame), if any.
   std::uint32_t corner_at(std::uint32_t h, Vec2 p) const {
     const std::array<Vec2, 3> c = corners_in_frame(surface_, h);
@@ -309,13 +327,16 @@ class PathBuilder {
     const auto ends_at = [&](std::uint32_t v) {
       return v != kNone && std::find(pass.begin(), pass.end(), v) == pass.end();
     };
+    // The piece ends at its pseudo-source: a vertex, which finish_from adds next, or a source point, added here.
+    const auto end_at_pseudo_source = [&] {
+      if (pseudo_source == kNone) add_source_point(arrival.from);
+      return pseudo_source;
+    };
     piece_edge_points_.clear();
     std::uint32_t h = arrival.halfedge;
     Vec2 source = {arrival.px, arrival.py};
-    if (std::isnan(arrival.crossing)) {  // straight from a corner, a vertex on a side, or a source point
-      if (pseudo_source == kNone) add_source_point(arrival.from);  // (a vertex is added next, by finish_from)
-      return pseudo_source;
-    }
+    if (std::isnan(arrival.crossing))
+      return end_at_pseudo_source();  // straight from a corner, a vertex on a side, or a source point
     if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))
       return v;
     else if (v == kNone)
@@ -328,6 +349,12 @@ class PathBuilder {
     }
     // Walk face by face: enter the face across h at `entry`, heading for `source` beyond it.
     const std::size_t limit = 2 * surface_.halfedges.size() + 8;
+    // Where the walk first came within the snapping distance of its pseudo-source, in a face that does not hold it.
+    struct NearSource {
+      std::size_t step, points, edge_points;
+    };
+    std::optional<NearSource> near_since;
+    constexpr std::size_t kNearFaces = 8;
     for (std::size_t step = 0; step < limit; ++step) {
       if (surface_.twin[h] == kNone) fail("a piece leaves the surface through a boundary edge");
       source = to_twin(surface_, h, source);
@@ -335,12 +362,25 @@ class PathBuilder {
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
       if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner);
-      // Inside the face (or on its far edges, up to the snapping distance): a source point. A distance, not
-      // weights with a slack: in a face narrower than the slack, slack on the weights holds every point near
-      // the face's line, far beyond its ends too.
+      // Inside the face (or on its far edges, up to the snapping distance): a source point in the face, or a
+      // vertex on its side. A distance, not weights with a slack: in a face narrower than the slack, slack on
+      // the weights holds every point near the face's line, far beyond its ends too.
       if (distance_to_face(surface_, h, source) <= eps_) {
-        if (pseudo_source == kNone) add_source_point(arrival.from);
-        return pseudo_source;
+        if (pseudo_source == kNone ? source_in_face(arrival.from, face_of(h))
+                                   : vertex_on_side(pseudo_source, face_of(h)))
+          return end_at_pseudo_source();
+        // The pseudo-source lies just beyond this face, a vertex not on its sides or a point in another face
+        // (across a sliver thinner than the snapping distance, say): the walk goes on into a face that holds
+        // it, so that the path does not cut across the sliver.
+        if (!near_since) near_since = NearSource{step, path_.points.size(), piece_edge_points_.size()};
+      }
+      if (near_since && step - near_since->step >= kNearFaces) {
+        // No face holding it within a few faces more: the piece goes straight to it from where it first
+        // came that near.
+        path_.points.resize(near_since->points);
+        path_.locations.resize(near_since->points);
+        piece_edge_points_.resize(near_since->edge_points);
+        return end_at_pseudo_source();
       }
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through
       // the side from the head to the apex.
