@@ -34,7 +34,7 @@ std::vector<std::uint32_t> vertex_labels(const VtpEngine& engine) {
   const std::span<const Arrival> arrival = engine.arrivals();
   std::vector<std::uint32_t> order;
   for (std::uint32_t v = 0; v < vertex_count; ++v)
-    if (distance[v] <= engine.cutoff()) order.push_back(v);
+    if (engine.answers(distance[v])) order.push_back(v);
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return distance[a] < distance[b] || (distance[a] == distance[b] && a < b);
   });

@@ -76,7 +76,7 @@ double search_pair(const Mesh& mesh, detail::VtpEngine& engine, const detail::Lo
       to.vertex != detail::kNone
           ? engine.distances()[surface.nearest_copy(surface.surface_to_input[to.vertex], engine.distances())]
           : engine.target_distances()[0];
-  if (std::isinf(distance) || !(distance <= engine.cutoff())) return HUGE_VAL;  // unreachable, or beyond max_distance
+  if (!engine.answers(distance)) return HUGE_VAL;  // unreachable, or beyond max_distance
   if (path) {
     *path = detail::trace_to_target(mesh, engine, 0);
     path->source = 0;

@@ -248,11 +248,16 @@ class PathBuilder {
     add(p, location);
   }
 
-  // The source point numbered `id` as Arrival::from counts, where it is given: not where the piece's
-  // unfolding puts it, which may be off by the snapping distance (and in a face the point lies beside: in a
-  // sliver narrower than that, the point of its neighbour's side beside it).
+  // The source point numbered `id` as Arrival::from counts (from the surface's vertex count on), as given.
+  const LocatedPoint& source_point(std::uint32_t id) const {
+    return engine_.sources()[id - surface_.vertex_count].point;
+  }
+
+  // The source point numbered `id`, where it is given: not where the piece's unfolding puts it, which may be
+  // off by the snapping distance (and in a face the point lies beside: in a sliver narrower than that, the
+  // point of its neighbour's side beside it).
   void add_source_point(std::uint32_t id) {
-    const LocatedPoint& source = engine_.sources()[id - surface_.vertex_count].point;
+    const LocatedPoint& source = source_point(id);
     PathPointLocation location;
     location.kind = PathPointLocation::Kind::face;
     location.face_point = {surface_.surface_face_to_input[source.face], source.barycentric};
@@ -264,10 +269,10 @@ class PathBuilder {
     add(position, location);
   }
 
-  // Whether the source point numbered `id` (as Arrival::from counts) lies in face f: f is the face it was
-  // given in or another that holds it (on a side or at a corner).
+  // Whether the source point numbered `id` lies in face f: f is the face it was given in or another that holds
+  // it (on a side or at a corner).
   bool source_in_face(std::uint32_t id, std::uint32_t f) const {
-    const LocatedPoint& source = engine_.sources()[id - surface_.vertex_count].point;
+    const LocatedPoint& source = source_point(id);
     bool holds = source.face == f;
     if (!holds)
       for_each_placement(surface_, source,
@@ -476,7 +481,7 @@ GeodesicPath GeodesicSolver::path_to_point(const SurfacePoint& surface_point) co
   if (point.vertex != detail::kNone) return path_to_vertex(surface.surface_to_input[point.vertex]);
   detail::Arrival arrival;
   const double d = kept.reach(surface, engine_->distances(), point, arrival);
-  if (std::isinf(d) || d > engine_->cutoff()) return {};  // unreached, or beyond the cut-off
+  if (!engine_->answers(d)) return {};  // unreached, or beyond the cut-off
   GeodesicPath path = detail::trace_to_point(*mesh_, *engine_, point, arrival);
   path.source = detail::label_of(*engine_, arrival.from);
   return path;

@@ -16,6 +16,7 @@
 // goal-directed runs towards one target (docs/pairs.md).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -66,6 +67,9 @@ class VtpEngine {
   // Distances above the cut-off are not final: reported as +inf. Lengths are in the mesh's engine frame
   // (SurfaceMesh::scale_exponent).
   double cutoff() const { return state_.cutoff; }
+  // Whether the run answers distance d (engine frame): reached, and within the cut-off. Not `d <= cutoff`
+  // alone: +inf passes that when there is no cut-off.
+  bool answers(double d) const { return d < HUGE_VAL && d <= state_.cutoff; }
   std::span<const double> distances() const { return state_.distance; }  // per surface vertex
   std::span<const Arrival> arrivals() const { return state_.arrival; }   // per surface vertex
   const std::vector<double>& target_distances() const { return state_.targets.distances(); }
