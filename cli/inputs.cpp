@@ -343,23 +343,25 @@ std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std:
 namespace {
 
 // The vertices of a value holding vertices only (a .npy array, a list or CSV file of indices), each checked
-// against the mesh; a message names the value, and the element of a .npy array.
-std::vector<std::uint32_t> checked_vertices(const ListInput& input, const exactgeo::Mesh& mesh) {
+// against the mesh (in range; used by a face unless `check` is in_range); a message names the value, and the
+// element of a .npy array.
+std::vector<std::uint32_t> checked_vertices(const ListInput& input, const exactgeo::Mesh& mesh, VertexCheck check) {
   const std::vector<std::uint32_t> vertices =
       input.npy ? read_npy_indices(input.bytes, input.origin) : parse_vertex_list(input.bytes, input.origin);
   if (vertices.empty()) throw invalid_argument(input.origin + ": no vertex given");
   for (std::size_t i = 0; i < vertices.size(); ++i)
-    listed_vertex_point(mesh, vertices[i], input.npy ? element_origin(input, i) : input.origin);
+    if (check == VertexCheck::used_by_a_face || vertices[i] >= mesh.vertex_count())
+      listed_vertex_point(mesh, vertices[i], input.npy ? element_origin(input, i) : input.origin);
   return vertices;
 }
 
 }  // namespace
 
 std::vector<std::uint32_t> read_vertex_list(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
-                                            const std::string& option) {
+                                            const std::string& option, VertexCheck check) {
   std::vector<std::uint32_t> vertices;
   for (const std::string& argument : arguments) {
-    const std::vector<std::uint32_t> listed = checked_vertices(read_list_input(argument, option), mesh);
+    const std::vector<std::uint32_t> listed = checked_vertices(read_list_input(argument, option), mesh, check);
     vertices.insert(vertices.end(), listed.begin(), listed.end());
   }
   return vertices;
@@ -372,7 +374,8 @@ std::vector<exactgeo::SurfacePoint> read_targets(const std::vector<std::string>&
   for (const std::string& argument : arguments) {
     const ListInput input = read_list_input(argument, option);
     if (input.npy || vertex_column(input.bytes)) {
-      for (std::uint32_t v : checked_vertices(input, mesh)) targets.push_back(exactgeo::vertex_point(mesh, v));
+      for (std::uint32_t v : checked_vertices(input, mesh, VertexCheck::used_by_a_face))
+        targets.push_back(exactgeo::vertex_point(mesh, v));
     } else {
       const std::vector<exactgeo::SurfacePoint> listed = parse_targets(input.bytes, mesh, input.origin, element);
       targets.insert(targets.end(), listed.begin(), listed.end());

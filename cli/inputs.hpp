@@ -110,12 +110,15 @@ exactgeo::LocateResult locate_listed(const std::vector<std::string>& arguments, 
 
 // Vertex indices separated by spaces, newlines, ',' or ';'.
 std::vector<std::uint32_t> parse_vertex_list(const std::string& text, const std::string& origin);
+// What a listed vertex must be: in range and used by a face (a source, a target point), or only in range (a
+// column of a distance matrix, +inf where no face uses the vertex, as in the full matrix).
+enum class VertexCheck { used_by_a_face, in_range };
 // The vertices of a list option (matrix --sources and --targets), each value a list as above, a file (text as
 // above, a CSV file with a vertex column, or a .npy array of any integer dtype) or "-" (standard input, in any
-// form a file takes), concatenated. Each is checked against the mesh (in range and used by a face); a message
-// names the value, and the element of a .npy array, at fault.
+// form a file takes), concatenated. Each is checked against the mesh as `check` says; a message names the
+// value, and the element of a .npy array, at fault.
 std::vector<std::uint32_t> read_vertex_list(const std::vector<std::string>& arguments, const exactgeo::Mesh& mesh,
-                                            const std::string& option);
+                                            const std::string& option, VertexCheck check);
 
 // --threads for commands that run one propagation: how many threads share it. Unset, the library's
 // recommendation for the mesh (every core on large meshes); 0, one per core.

@@ -21,24 +21,6 @@ namespace {
 
 using namespace exactgeo_test;
 
-// Reads a 2-D little-endian float64 .npy (rows x columns).
-std::vector<double> parse_npy_matrix(const fs::path& path, std::size_t rows, std::size_t columns) {
-  const std::string bytes = read_file(path);
-  const std::size_t header_length = std::uint8_t(bytes[8]) | std::size_t(std::uint8_t(bytes[9])) << 8;
-  const std::string header = bytes.substr(10, header_length);
-  EXPECT_NE(header.find("'shape': (" + std::to_string(rows) + ", " + std::to_string(columns) + ")"), std::string::npos)
-      << header;
-  EXPECT_EQ(bytes.size(), 10 + header_length + rows * columns * 8);
-  std::vector<double> values(rows * columns);
-  for (std::size_t i = 0; i < values.size() && 10 + header_length + 8 * i + 8 <= bytes.size(); ++i) {
-    std::uint64_t bits = 0;
-    for (std::size_t byte = 0; byte < 8; ++byte)
-      bits |= std::uint64_t(std::uint8_t(bytes[10 + header_length + 8 * i + byte])) << (8 * byte);
-    values[i] = std::bit_cast<double>(bits);
-  }
-  return values;
-}
-
 TEST_F(Cli, MatrixRowsAreDistanceRunsInEveryFormat) {
   write_file(path("sources.txt"), "0\n17;200 5\n");
   ASSERT_EQ(run("matrix @torus:24:10 --sources " + arg("sources.txt") + " --threads 2 --out " + arg("m.npy")).exit_code, 0);
@@ -145,6 +127,27 @@ TEST_F(Cli, MatrixTargetsAreColumnsOfTheFullMatrix) {
   ASSERT_EQ(run("matrix @torus:24:10 --sources 0 --targets " + arg("s.txt") + " --out " + arg("b.npy")).exit_code, 0);
   EXPECT_EQ(read_file(path("a.npy")), read_file(path("b.npy")));
   expect_error(run("matrix @torus:24:10 --sources 0 --targets 3,99999 --out " + arg("m.npy")), 2, "99999");
+  EXPECT_FALSE(fs::exists(path("m.npy")));
+}
+
+// A column may name a vertex no face uses: +inf, as that vertex's column of the full matrix (the library's
+// promise); a row may not, nor may a column name a vertex out of range.
+TEST_F(Cli, MatrixColumnOfAVertexNoFaceUsesIsInfinite) {
+  write_file(path("seam.obj"), kSeamObj);
+  ASSERT_EQ(run("matrix " + arg("seam.obj") + " --sources 0 --out " + arg("full.npy")).exit_code, 0);
+  const RunResult block_run = run("matrix " + arg("seam.obj") + " --sources 0 --targets 6,1 --out " + arg("b.npy"));
+  ASSERT_EQ(block_run.exit_code, 0) << block_run.err;
+  const std::vector<double> full = parse_npy_matrix(path("full.npy"), 1, 7);
+  const std::vector<double> block = parse_npy_matrix(path("b.npy"), 1, 2);
+  EXPECT_TRUE(std::isinf(full[6]));
+  EXPECT_TRUE(std::isinf(block[0]));
+  EXPECT_EQ(block[1], full[1]);
+  EXPECT_EQ(block[1], 1.0);
+  expect_error(run("matrix " + arg("seam.obj") + " --sources 6 --out " + arg("m.npy")), 2,
+               "--sources: vertex 6 is used by no face");
+  write_file(path("far.npy"), npy_file("<i4", {1, 7}));
+  expect_error(run("matrix " + arg("seam.obj") + " --sources 0 --targets " + arg("far.npy") + " --out " + arg("m.npy")),
+               2, "element [1]: vertex 7 is out of range");
   EXPECT_FALSE(fs::exists(path("m.npy")));
 }
 

@@ -264,59 +264,12 @@ TEST(Fuzz, RandomMeshesKeepEveryProperty) { check_seeds("random", kDefaultCases,
 
 // Issue 34 found two classes of silent failures that the families above never produce: paths failing where
 // two vertices coincide (a zero-length edge), and a vertex named as a target at a non-manifold vertex getting
-// another answer than the same vertex in the per-vertex output. These cases build such meshes: vertices
-// doubled in place and stitched back by zero-area faces, bowties (patches sharing one vertex), books of 3 to 6
-// pages sharing a spine, and sheets with a fin standing on inner edges; each mesh checked on one thread (any
-// variant) and on 2, 3 and 8 threads.
-struct JunctionCase {
-  std::string family;
-  MeshSoup soup;
-  // The surface is its pieces apart, some vertices doubled in place: the pieces' own distances, a doubled
-  // vertex's being its original's, are every distance. Empty for a fin, which slits its sheet.
-  exactgeo_test::GluedPieces glued;
-  std::vector<std::uint32_t> stands_for;
-};
-
-JunctionCase random_junction_case(Random& random) {
-  const auto size = [&](int lo, int hi) {
-    return lo + static_cast<int>(random.below(static_cast<std::size_t>(hi - lo + 1)));
-  };
-  JunctionCase c;
-  int doubled = size(0, 3);
-  switch (random.below(4)) {
-    case 0: {
-      const int nx = size(1, 8), ny = size(1, 8);
-      c.family = "height field " + std::to_string(nx) + "x" + std::to_string(ny);
-      MeshSoup field = exactgeo_test::random_height_field(random, nx, ny, std::pow(10.0, random.uniform(-3, 0)),
-                                                          random.below(2) == 0);
-      c.glued.vertex_of.emplace_back(exactgeo_test::vertex_count(field));
-      std::iota(c.glued.vertex_of[0].begin(), c.glued.vertex_of[0].end(), 0u);
-      c.glued.soup = field;
-      c.glued.pieces.push_back(std::move(field));
-      doubled = size(1, 6);
-      break;
-    }
-    case 1: {
-      const int wings = size(2, 4);
-      c.family = "bowtie of " + std::to_string(wings) + " wings";
-      c.glued = exactgeo_test::random_bowtie(random, wings);
-      break;
-    }
-    case 2: {
-      const int pages = size(3, 6);
-      c.family = "book of " + std::to_string(pages) + " pages";
-      c.glued = exactgeo_test::random_book(random, pages);
-      break;
-    }
-    default:
-      c.family = "sheet with a fin";
-      c.glued.soup = exactgeo_test::random_sheet_with_fin(random);
-      break;
-  }
-  c.family += ", " + std::to_string(doubled) + " vertices doubled";
-  c.soup = exactgeo_test::with_coincident_vertices(c.glued.soup, random, doubled, c.stands_for);
-  return c;
-}
+// another answer than the same vertex in the per-vertex output. These cases build such meshes
+// (exactgeo_test::random_junction_case): vertices doubled in place and stitched back by zero-area faces,
+// bowties (patches sharing one vertex), books of 3 to 6 pages sharing a spine, and sheets with a fin standing on
+// inner edges; each mesh checked on one thread (any variant) and on 2, 3 and 8 threads.
+using exactgeo_test::JunctionCase;
+using exactgeo_test::random_junction_case;
 
 // The distances from `source` that the case's pieces give, or nothing where the pieces do not say (a fin).
 std::vector<double> pieces_distances(const JunctionCase& c, std::uint32_t source, const GeodesicOptions& options) {

@@ -337,10 +337,10 @@ void expect_straight_from(const Mesh& mesh, const SurfacePoint& source, const st
 TEST_P(PointQueries, PointsOnStitchesAndAHairFromASideReachEveryFaceAroundThem) {
   Random random(29);
   MeshSoup soup = exactgeo::make_grid(24, 16, 3.0, 2.0);
-  const std::uint32_t unstitched_faces = exactgeo_test::face_count(soup);
+  const auto unstitched_faces = static_cast<std::uint32_t>(exactgeo_test::face_count(soup));
   std::vector<std::uint32_t> stands_for;
   soup = exactgeo_test::with_coincident_vertices(std::move(soup), random, 12, stands_for);
-  const std::uint32_t face_count = exactgeo_test::face_count(soup);
+  const auto face_count = static_cast<std::uint32_t>(exactgeo_test::face_count(soup));
   ASSERT_EQ(face_count, unstitched_faces + 24);  // two stitches for each vertex doubled
   const Mesh stitched(soup);
   std::vector<SurfacePoint> targets;

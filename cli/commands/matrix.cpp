@@ -69,11 +69,13 @@ int run_matrix(const MatrixArguments& arguments) {
   const LoadedMesh loaded = load_mesh(arguments.mesh, arguments.threads);
   const exactgeo::Mesh& mesh = loaded.mesh;
   // Read and checked before the output is created, so that a bad vertex leaves an existing file as it was.
-  const std::vector<std::uint32_t> sources = read_vertex_list(arguments.sources, mesh, "--sources");
+  const std::vector<std::uint32_t> sources =
+      read_vertex_list(arguments.sources, mesh, "--sources", VertexCheck::used_by_a_face);
   exactgeo::MatrixOptions options;
   options.geodesic.max_distance = arguments.max_distance;
   options.threads = arguments.threads;
-  if (!arguments.targets.empty()) options.target_vertices = read_vertex_list(arguments.targets, mesh, "--targets");
+  if (!arguments.targets.empty())
+    options.target_vertices = read_vertex_list(arguments.targets, mesh, "--targets", VertexCheck::in_range);
   const std::size_t columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
   std::span<const std::uint32_t> targets;
   if (options.target_vertices) targets = *options.target_vertices;
@@ -134,10 +136,11 @@ Command add_matrix_command(CLI::App& app) {
       "CSV file with a vertex column, as sample --out s.csv writes; a .npy array of any integer dtype, as "
       "sample --out s.npy writes) or - for standard input in any of these forms (sample ... --out - | matrix "
       "... --sources -)")->type_name("FILE|LIST|-");
-  CLI::Option* targets = add_list_option(
-      *command, arguments->mesh, "--targets", arguments->targets,
-      "Target vertices (the columns, in their order; default every vertex), in the same forms; each "
-      "run stops once they are final")->type_name("FILE|LIST|-");
+  CLI::Option* targets =
+      add_list_option(*command, arguments->mesh, "--targets", arguments->targets,
+                      "Target vertices (the columns, in their order; default every vertex), in the same forms; each "
+                      "run stops once they are final. A vertex no face uses is inf, as in the full matrix")
+          ->type_name("FILE|LIST|-");
   CLI::Option* max_distance =
       command->add_option("--max-distance", arguments->max_distance,
                           "Cut-off: entries beyond it are inf (or left out), targets too (leave it out to have every "

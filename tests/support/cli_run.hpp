@@ -93,6 +93,24 @@ inline std::vector<double> parse_npy(const fs::path& path) {
   return values;
 }
 
+// Reads a 2-D little-endian float64 .npy (rows x columns).
+inline std::vector<double> parse_npy_matrix(const fs::path& path, std::size_t rows, std::size_t columns) {
+  const std::string bytes = read_file(path);
+  const std::size_t header_length = std::uint8_t(bytes[8]) | std::size_t(std::uint8_t(bytes[9])) << 8;
+  const std::string header = bytes.substr(10, header_length);
+  EXPECT_NE(header.find("'shape': (" + std::to_string(rows) + ", " + std::to_string(columns) + ")"), std::string::npos)
+      << header;
+  EXPECT_EQ(bytes.size(), 10 + header_length + rows * columns * 8);
+  std::vector<double> values(rows * columns);
+  for (std::size_t i = 0; i < values.size() && 10 + header_length + 8 * i + 8 <= bytes.size(); ++i) {
+    std::uint64_t bits = 0;
+    for (std::size_t byte = 0; byte < 8; ++byte)
+      bits |= std::uint64_t(std::uint8_t(bytes[10 + header_length + 8 * i + byte])) << (8 * byte);
+    values[i] = std::bit_cast<double>(bits);
+  }
+  return values;
+}
+
 inline void expect_bitwise_equal(const std::vector<double>& a, const std::vector<double>& b) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {

@@ -443,6 +443,47 @@ exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& ran
   return soup;
 }
 
+JunctionCase random_junction_case(Random& random) {
+  const auto size = [&](int lo, int hi) {
+    return lo + static_cast<int>(random.below(static_cast<std::size_t>(hi - lo + 1)));
+  };
+  JunctionCase c;
+  int doubled = size(0, 3);
+  switch (random.below(4)) {
+    case 0: {
+      const int nx = size(1, 8), ny = size(1, 8);
+      c.family = "height field " + std::to_string(nx) + "x" + std::to_string(ny);
+      exactgeo::MeshSoup field =
+          random_height_field(random, nx, ny, std::pow(10.0, random.uniform(-3, 0)), random.below(2) == 0);
+      c.glued.vertex_of.emplace_back(vertex_count(field));
+      std::iota(c.glued.vertex_of[0].begin(), c.glued.vertex_of[0].end(), 0u);
+      c.glued.soup = field;
+      c.glued.pieces.push_back(std::move(field));
+      doubled = size(1, 6);
+      break;
+    }
+    case 1: {
+      const int wings = size(2, 4);
+      c.family = "bowtie of " + std::to_string(wings) + " wings";
+      c.glued = random_bowtie(random, wings);
+      break;
+    }
+    case 2: {
+      const int pages = size(3, 6);
+      c.family = "book of " + std::to_string(pages) + " pages";
+      c.glued = random_book(random, pages);
+      break;
+    }
+    default:
+      c.family = "sheet with a fin";
+      c.glued.soup = random_sheet_with_fin(random);
+      break;
+  }
+  c.family += ", " + std::to_string(doubled) + " vertices doubled";
+  c.soup = with_coincident_vertices(c.glued.soup, random, doubled, c.stands_for);
+  return c;
+}
+
 exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count, double lift) {
   for (int i = 0; i < count; ++i) {
     const std::size_t face = random.below(face_count(soup));

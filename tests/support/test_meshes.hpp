@@ -170,6 +170,18 @@ exactgeo::MeshSoup with_coincident_vertices(exactgeo::MeshSoup soup, Random& ran
 // ab's length (near-slivers: the surface moves by as much).
 exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count, double lift = 0);
 
+// A random case of the junction fuzzing: a height field, a bowtie of 2 to 4 wings, a book of 3 to 6 pages or a
+// sheet with a fin, with 0 to 6 vertices doubled in place (with_coincident_vertices). `family` names it.
+struct JunctionCase {
+  std::string family;
+  exactgeo::MeshSoup soup;
+  // The surface is its pieces apart, some vertices doubled in place: the pieces' own distances, a doubled
+  // vertex's being its original's, are every distance. Empty for a fin, which slits its sheet.
+  GluedPieces glued;
+  std::vector<std::uint32_t> stands_for;
+};
+JunctionCase random_junction_case(Random& random);
+
 // ---- Distances -----------------------------------------------------------------------------------------
 
 // Largest finite value, or 0 if there is none.
