@@ -1,5 +1,6 @@
 // The commands on the junction fuzzing's meshes (bowties, books of pages, sheets with a fin, vertices doubled in
-// place: exactgeo_test::random_junction_case), read from an OBJ file with a vertex no face uses added. What
+// place: exactgeo_test::random_junction_case) and on height fields with T-junctions closed by slivers and
+// near-slivers, read from an OBJ file with a vertex no face uses added. What
 // `distance`, `pairs`, `matrix` and `path` write is the library's answer on the same soup: bit for bit where
 // the library's answer is the same on any thread count (pairs, matrix rows) or the command runs one thread,
 // to 1e-14 of the largest distance on two. The fuzzing holds the library to the surface; this holds the
@@ -26,7 +27,7 @@ namespace {
 using namespace exactgeo_test;
 using exactgeo::SurfacePoint;
 
-constexpr std::uint64_t kCases = 24;   // seeds 1 to 24: a few seconds of commands
+constexpr std::uint64_t kCases = 30;   // seeds 1 to 30: about a second of commands
 constexpr double kExact = 1e-14;       // relative to the largest distance, on two threads
 constexpr double kPathLength = 1e-12;  // path length against distance, relative (the README's junction promise)
 
@@ -67,9 +68,20 @@ class CliJunctions : public Cli {
   // One case: the mesh written, the library's answers beside each command's.
   void check_case(std::uint64_t seed) {
     Random random(seed);
-    const JunctionCase c = random_junction_case(random);
-    SCOPED_TRACE(testing::Message() << "seed " << seed << ": " << c.family);
-    exactgeo::MeshSoup soup = c.soup;
+    std::string family;
+    exactgeo::MeshSoup soup;
+    if (seed % 3 != 0) {
+      JunctionCase c = random_junction_case(random);
+      family = std::move(c.family);
+      soup = std::move(c.soup);
+    } else {  // a height field with T-junctions closed by slivers, or by near-slivers (lifted by up to 1e-9)
+      const int nx = 1 + static_cast<int>(random.below(8)), ny = 1 + static_cast<int>(random.below(8));
+      const double lift = seed % 2 == 0 ? 0 : std::pow(10.0, random.uniform(-17, -9));
+      family = "height field with slivers, lift " + shortest(lift);
+      soup = with_t_junctions(random_height_field(random, nx, ny, 0.3, random.below(2) == 0), random,
+                              1 + static_cast<int>(random.below(6)), lift);
+    }
+    SCOPED_TRACE(testing::Message() << "seed " << seed << ": " << family);
     const std::uint32_t unused = add_vertex(soup, {7, 7, 7});
     write_file(path("m.obj"), obj_text(soup));
     const exactgeo::Mesh mesh(soup);
