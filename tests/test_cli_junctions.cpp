@@ -1,16 +1,18 @@
 // The commands on the junction fuzzing's meshes (bowties, books of pages, sheets with a fin, vertices doubled in
 // place: exactgeo_test::random_junction_case) and on height fields with T-junctions closed by slivers and
-// near-slivers, read from an OBJ file with a vertex no face uses added. What
-// `distance`, `pairs`, `matrix` and `path` write is the library's answer on the same soup: bit for bit where
-// the library's answer is the same on any thread count (pairs, matrix rows) or the command runs one thread,
-// to 1e-14 of the largest distance on two. The fuzzing holds the library to the surface; this holds the
-// commands' own reading of vertices, points and lists at split and doubled vertices to the library.
+// near-slivers, read from an OBJ file with a vertex no face uses added. What `distance` (targets, labels,
+// query points, sources and targets given in space), `pairs`, `matrix` and `path` write is the library's
+// answer on the same soup: bit for bit where the library's answer is the same on any thread count (pairs,
+// matrix rows) or the command runs one thread, to 1e-14 of the largest distance on two. The fuzzing holds the
+// library to the surface; this holds the commands' own reading of vertices, points and lists at split and
+// doubled vertices to the library.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -157,6 +159,30 @@ class CliJunctions : public Cli {
       EXPECT_EQ(vertex_rows.labels, labels_of(targeted.nearest_source));
       EXPECT_EQ(target_rows.labels, labels_of(targeted.target_nearest_source));
     }
+
+    // distance --source-xyz and --target-xyz: points in space in the mesh's box, each at its closest surface point.
+    std::vector<double> xyz;
+    std::string xyz_text[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int axis = 0; axis < 3; ++axis) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (std::size_t i = axis; i < soup.positions.size() - 3; i += 3) {  // the vertex no face uses is last
+          lo = std::min(lo, soup.positions[i]);
+          hi = std::max(hi, soup.positions[i]);
+        }
+        xyz.push_back(random.uniform(lo - 0.1, hi + 0.1));
+        xyz_text[k] += (axis ? "," : "") + shortest(xyz.back());
+      }
+    }
+    const RunResult in_space =
+        run("distance " + arg("m.obj") + " --source-xyz " + xyz_text[0] + " --target-xyz '" + xyz_text[1] + ";" +
+            xyz_text[2] + "' --out " + arg("dx.npy") + " --target-out " + arg("tx.npy") + common);
+    ASSERT_EQ(in_space.exit_code, 0) << in_space.err;
+    const std::vector<SurfacePoint> located = exactgeo::locate(mesh, xyz).points;
+    const exactgeo::GeodesicResult& from_space =
+        solver.solve(std::span(located).first(1), std::span(located).subspan(1), one_thread);
+    expect_same_distances(parse_npy(path("dx.npy")), from_space.distances, threads, "vertices, from a point in space");
+    expect_same_distances(parse_npy(path("tx.npy")), from_space.target_distances, threads, "targets in space");
 
     // distance --query-points: every vertex and the points, after a whole run.
     std::vector<SurfacePoint> queries;
