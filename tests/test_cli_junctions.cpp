@@ -33,17 +33,6 @@ constexpr std::uint64_t kCases = 30;   // seeds 1 to 30: about a second of comma
 constexpr double kExact = 1e-14;       // relative to the largest distance, on two threads
 constexpr double kPathLength = 1e-12;  // path length against distance, relative (the README's junction promise)
 
-std::string obj_text(const exactgeo::MeshSoup& soup) {
-  std::string text;
-  for (std::size_t i = 0; i < soup.positions.size(); i += 3)
-    text += "v " + shortest(soup.positions[i]) + " " + shortest(soup.positions[i + 1]) + " " +
-            shortest(soup.positions[i + 2]) + "\n";
-  for (std::size_t i = 0; i < soup.triangles.size(); i += 3)
-    text += "f " + std::to_string(soup.triangles[i] + 1) + " " + std::to_string(soup.triangles[i + 1] + 1) + " " +
-            std::to_string(soup.triangles[i + 2] + 1) + "\n";
-  return text;
-}
-
 std::string point_text(const SurfacePoint& point) {
   return std::to_string(point.face) + ":" + shortest(point.barycentric[0]) + "," + shortest(point.barycentric[1]) +
          "," + shortest(point.barycentric[2]);
@@ -249,7 +238,8 @@ class CliJunctions : public Cli {
       const nlohmann::json path_json = nlohmann::json::parse(read_file(path("path.json")));
       const auto& points = path_json["points"];
       double length = 0;
-      for (std::size_t i = 1; i < points.size(); ++i) length += distance_between_points(points[i - 1], points[i]);
+      for (std::size_t i = 1; i < points.size(); ++i)
+        length += exactgeo_test::distance(points[i - 1].get<Vec3>(), points[i].get<Vec3>());
       const double rounding = 1e-15 * max_finite(full);
       EXPECT_LE(std::abs(path_json["length"].get<double>() - distance), kPathLength * distance + rounding)
           << "path to " << target;
@@ -262,12 +252,6 @@ class CliJunctions : public Cli {
         std::find_if(at_queries.begin(), at_queries.end(), [](double d) { return std::isfinite(d); });
     if (reached_query != at_queries.end())
       check_path(point_text(queries[reached_query - at_queries.begin()]), *reached_query, false);
-  }
-
-  static double distance_between_points(const nlohmann::json& p, const nlohmann::json& q) {
-    const double dx = p[0].get<double>() - q[0].get<double>(), dy = p[1].get<double>() - q[1].get<double>(),
-                 dz = p[2].get<double>() - q[2].get<double>();
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
   }
 };
 

@@ -220,15 +220,7 @@ TEST_F(IoRoundTrip, WrittenFilesReadBackEqual) {
   const std::size_t face_count = mesh.triangles.size() / 3;
   ASSERT_GT(face_count, 0u);
 
-  std::string obj = "# round trip\n";
-  for (std::size_t v = 0; v < vertex_count; ++v) {
-    obj += "v " + shortest(mesh.positions[3 * v]) + " " + shortest(mesh.positions[3 * v + 1]) + " " +
-           shortest(mesh.positions[3 * v + 2]) + "\n";
-  }
-  for (std::size_t f = 0; f < face_count; ++f) {
-    obj += "f " + std::to_string(mesh.triangles[3 * f] + 1) + " " + std::to_string(mesh.triangles[3 * f + 1] + 1) +
-           " " + std::to_string(mesh.triangles[3 * f + 2] + 1) + "\n";
-  }
+  const std::string obj = "# round trip\n" + obj_text(mesh);
 
   std::string off = "OFF\n" + std::to_string(vertex_count) + " " + std::to_string(face_count) + " 0\n";
   for (std::size_t v = 0; v < vertex_count; ++v) {

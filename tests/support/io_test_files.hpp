@@ -57,6 +57,18 @@ inline std::string shortest(double value) {
   return std::string(buffer, result.ptr);
 }
 
+// The soup as OBJ text: every coordinate in its shortest form that reads back as the same double.
+inline std::string obj_text(const MeshSoup& soup) {
+  std::string text;
+  for (std::size_t i = 0; i < soup.positions.size(); i += 3)
+    text += "v " + shortest(soup.positions[i]) + " " + shortest(soup.positions[i + 1]) + " " +
+            shortest(soup.positions[i + 2]) + "\n";
+  for (std::size_t i = 0; i < soup.triangles.size(); i += 3)
+    text += "f " + std::to_string(soup.triangles[i] + 1) + " " + std::to_string(soup.triangles[i + 1] + 1) + " " +
+            std::to_string(soup.triangles[i + 2] + 1) + "\n";
+  return text;
+}
+
 inline void expect_contains(const std::string& message, const std::string& fragment) {
   EXPECT_NE(message.find(fragment), std::string::npos) << "message: " << message << "\nexpected: " << fragment;
 }
