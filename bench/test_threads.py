@@ -93,7 +93,8 @@ def record(mesh, name, seconds, **stats):
 
 
 def timer_record(mesh, count, propagation, parallel, busy):
-    return record(mesh, f"timers-t{count}", [propagation], parallel_seconds=parallel, parallel_busy_seconds=busy,
+    return record(mesh, f"timers-t{count}", [propagation], setup_seconds=0.25 * (propagation - parallel),
+                  parallel_seconds=parallel, parallel_busy_seconds=busy,
                   parallel_starved_seconds=0.1 * count * parallel, parallel_start_seconds=0.02 * count * parallel,
                   parallel_lock_wait_seconds=0.01 * count * parallel, parallel_lock_waits=7,
                   list_crossings=1100, parallel_critical_path=20, band_crossings_per_thread=12.5)
@@ -146,7 +147,16 @@ def test_the_split_gives_shares_of_the_threads_time(tmp_path):
     write_markdown(tmp_path / "threads.md", report())
     [row] = rows_of((tmp_path / "threads.md").read_text(), "Where the threads' time goes")
     # 0.5 s in all, 0.4 s shared by 4 threads (1.6 s of their time), 1.2 s of it busy; one thread took 1.0 s.
-    assert row[1:] == ["4", "500 ms", "20.0%", "75.0%", "1.2x", "10.0%", "2.0%", "1.0%", "7", "1.1x", "12.5", "55"]
+    # A quarter of the 0.1 s serial part is the set-up.
+    assert row[1:] == ["4", "500 ms", "20.0%", "5.0%", "75.0%", "1.2x", "10.0%", "2.0%", "1.0%", "7", "1.1x", "12.5", "55"]
+
+
+def test_stats_without_a_set_up_time_leave_its_cell_empty(tmp_path):
+    data = report()
+    del data["timer_records"][0]["solver_stats"]["setup_seconds"]  # a report of a build before the field
+    write_markdown(tmp_path / "threads.md", data)
+    [row] = rows_of((tmp_path / "threads.md").read_text(), "Where the threads' time goes")
+    assert row[3:6] == ["20.0%", "—", "75.0%"]
 
 
 def test_the_heat_table_divides_the_exact_time_on_every_thread_count(tmp_path):

@@ -56,6 +56,7 @@ constexpr unsigned kManyThreads = 4;
 }  // namespace
 
 void ParallelPropagation::run() {
+  const auto started = std::chrono::steady_clock::now();
   const unsigned threads = pool_.threads();
   run_ = std::make_unique<ParallelState>(threads, mesh_.vertex_count, mesh_.face_count());
   ParallelState& parallel = *run_;
@@ -67,6 +68,7 @@ void ParallelPropagation::run() {
   if (!(band_width > 0)) band_width = 1;  // every edge of length 0: every distance is 0
   parallel.bands.start(mesh_.vertex_count, threads, band_width);
   for_parts(mesh_.vertex_count, [&](std::size_t begin, std::size_t end) { parallel.bands.clear_vertices(begin, end); });
+  stats.setup_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   while (true) {
     engine_.update_cutoff();

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <new>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -40,6 +41,8 @@ struct FaceBvh;  // face_bvh.hpp
 
 // An array of the surface: its elements start uninitialised, so that the build's passes, which write every
 // element on the thread team, are not preceded by one thread zeroing (and first touching) the whole array.
+// That holds for plain structs with default member initialisers too (the engine's Arrival, 32 bytes a vertex):
+// growing the array does not run them; the team's fill that follows writes each element.
 template <class T>
 struct UninitializedAllocator : std::allocator<T> {
   template <class U>
@@ -56,7 +59,8 @@ struct UninitializedAllocator : std::allocator<T> {
   void deallocate(T* p, std::size_t n) noexcept { free_mesh_bytes(p, n * sizeof(T), alignof(T)); }
   template <class U>
   void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;  // default-initialised: left as it is for numbers and plain structs
+    if constexpr (!(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>))
+      ::new (static_cast<void*>(p)) U;
   }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {

@@ -30,6 +30,7 @@ VtpEngine::~VtpEngine() = default;
 
 void VtpEngine::run(std::span<const SourceSite> sources, std::span<const LocatedPoint> targets,
                     const GeodesicOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
   options_ = options;
   options_.max_distance = mesh_.to_engine_length(options.max_distance);  // the cut-off in the engine's frame
   face_sorted_ = sorts_faces(options.algorithm);
@@ -98,6 +99,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
       relax(v, 0.0, Arrival{v});
     }
   }
+  stats_.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (face_sorted_) {
     run_face_sorted();
   } else if (threads_ > 1) {

@@ -183,6 +183,8 @@ TEST(Threads, TheInstrumentsOfTheBandsAddUp) {
   EXPECT_GT(one.list_crossings, 0u);
   EXPECT_TRUE(one.band_timeline.empty());
   EXPECT_EQ(one.parallel_busy_seconds, 0.0);
+  EXPECT_GT(one.setup_seconds, 0.0);
+  EXPECT_LT(one.setup_seconds, one.propagation_seconds);
   for (unsigned threads : kThreadCounts) {
     const std::string where = std::to_string(threads) + " threads";
     const exactgeo::GeodesicStats timed =
@@ -209,6 +211,9 @@ TEST(Threads, TheInstrumentsOfTheBandsAddUp) {
     EXPECT_LE(timed.parallel_busy_seconds + timed.parallel_start_seconds + timed.parallel_starved_seconds,
               threads * timed.parallel_seconds * (1 + 1e-9)) << where;
     EXPECT_LE(timed.parallel_lock_wait_seconds, timed.parallel_busy_seconds) << where;
+    // The set-up comes before the first band: both lie inside the whole, apart.
+    EXPECT_GT(timed.setup_seconds, 0.0) << where;
+    EXPECT_LE(timed.setup_seconds + timed.parallel_seconds, timed.propagation_seconds) << where;
     // Re-crossed lists: more crossings than one thread's, never fewer than the lists one thread crosses once.
     EXPECT_GE(timed.list_crossings, one.list_crossings / 2) << where;
     // Untimed, the counts stay and the timeline is not kept.
@@ -216,6 +221,7 @@ TEST(Threads, TheInstrumentsOfTheBandsAddUp) {
     EXPECT_TRUE(untimed.band_timeline.empty()) << where;
     EXPECT_GT(untimed.list_crossings, 0u) << where;
     EXPECT_EQ(untimed.parallel_busy_seconds, 0.0) << where;
+    EXPECT_GT(untimed.setup_seconds, 0.0) << where;  // measured with or without the timers
   }
 }
 

@@ -107,6 +107,7 @@ def split_rows(report: dict, mesh: dict) -> list[list]:
         rows.append([
             name, str(count), format_seconds(timed["propagation_seconds"]),
             format_percent((timed["propagation_seconds"] - parallel) / timed["propagation_seconds"]),
+            format_percent(stats["setup_seconds"] / timed["propagation_seconds"]) if "setup_seconds" in stats else None,
             format_percent(stats["parallel_busy_seconds"] / thread_time),
             format_ratio(stats["parallel_busy_seconds"], one and one["propagation_seconds"]),
             format_percent(stats["parallel_starved_seconds"] / thread_time),
@@ -179,7 +180,8 @@ def write_markdown(path: Path, report: dict) -> None:
     lines += ["", "## Where the threads' time goes", "",
               "One run per thread count with `--timers` (the timers cost a little, so these runs are apart). "
               "*Serial*: (propagation − `parallel_seconds`) ÷ propagation, what runs on one thread (set-up, "
-              "gathering each band, the result). Of the threads' time in the shared part (T × `parallel_seconds`): "
+              "gathering each band, the result); *of which set-up*: `setup_seconds` ÷ propagation, the run's "
+              "arrays written before the first band (their first touch of fresh memory, on the threads). Of the threads' time in the shared part (T × `parallel_seconds`): "
               "*busy* (`parallel_busy_seconds`, the thread efficiency), *starved* (out of lists, waiting to be "
               "handed some), *start* (from a band's start until a thread joined it) and *lock wait* (spinning on "
               "a face's or vertex's lock, part of busy); the rest is the wait at the bands' ends. *Work ÷ 1 "
@@ -189,9 +191,9 @@ def write_markdown(path: Path, report: dict) -> None:
               "thread*: the median over the bands of a band's crossings ÷ T. *Crossings per step*: crossings ÷ "
               "the critical path, the parallelism the bands offer.", ""]
     rows = [row for mesh in report["meshes"] for row in split_rows(report, mesh)]
-    lines += markdown_table(["mesh", "threads", "propagation, timers on", "serial", "busy", "work ÷ 1 thread",
-                             "starved", "start", "lock wait", "lock waits", "crossed ÷ 1 thread",
-                             "crossings per band per thread", "crossings per step"], rows, "lrrrrrrrrrrrr")
+    lines += markdown_table(["mesh", "threads", "propagation, timers on", "serial", "of which set-up", "busy",
+                             "work ÷ 1 thread", "starved", "start", "lock wait", "lock waits", "crossed ÷ 1 thread",
+                             "crossings per band per thread", "crossings per step"], rows, "lrrrrrrrrrrrrr")
 
     lines += ["", "## Exact against the heat method", "",
               "potpourri3d's MeshHeatMethodDistanceSolver, factorised once (not counted in its solve), then the "

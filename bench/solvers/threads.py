@@ -15,7 +15,7 @@ from typing import ClassVar
 from solvers.end_to_end import WholeExactgeoRun
 
 # What a timed run (--timers, more than one thread) reports of where the threads' time went.
-kTimerKeys = ["queue_seconds", "parallel_seconds", "parallel_busy_seconds",
+kTimerKeys = ["setup_seconds", "queue_seconds", "parallel_seconds", "parallel_busy_seconds",
               "parallel_busiest_thread_seconds", "parallel_start_seconds", "parallel_starved_seconds",
               "parallel_lock_wait_seconds", "parallel_lock_waits", "parallel_bands", "parallel_critical_path"]
 

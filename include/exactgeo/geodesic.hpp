@@ -114,6 +114,7 @@ struct GeodesicStats {
   std::uint64_t kept_window_bytes = 0;
   unsigned threads = 0;
   double propagation_seconds = 0.0;
+  double setup_seconds = 0.0;
   double window_propagation_seconds = 0.0;
   double pruning_seconds = 0.0;
   double queue_seconds = 0.0;
@@ -181,6 +182,10 @@ constexpr void for_each_stats_field(Visit&& visit) {
         "threads the run shared: GeodesicOptions::threads, but 1 for the face-sorted variants (sequential), and "
         "fewer where the system would not start them all");
   visit("propagation_seconds", &S::propagation_seconds, seconds, "wall time of the propagation");
+  visit("setup_seconds", &S::setup_seconds, seconds,
+        "of propagation_seconds, the run's set-up before the first vertex is taken: the per-vertex and per-face "
+        "state and the window lists' records, written on the threads (their first touch of fresh memory, most "
+        "of it), and with threads > 1 the bands' queue and the locks");
   visit("window_propagation_seconds", &S::window_propagation_seconds, phase,
         "crossing window lists over triangles (0 unless collect_timings)");
   visit("pruning_seconds", &S::pruning_seconds, phase, "pairwise pruning, Rules 2 and 3 (0 unless collect_timings)");
