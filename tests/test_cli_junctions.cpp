@@ -1,11 +1,10 @@
 // The commands on the junction fuzzing's meshes (bowties, books of pages, sheets with a fin, vertices doubled in
 // place: exactgeo_test::random_junction_case) and on height fields with T-junctions closed by slivers and
-// near-slivers, read from an OBJ file with a vertex no face uses added. What `distance` (targets, labels,
-// query points, sources and targets given in space), `pairs`, `matrix` and `path` write is the library's
-// answer on the same soup: bit for bit where the library's answer is the same on any thread count (pairs,
-// matrix rows) or the command runs one thread, to 1e-14 of the largest distance on two. The fuzzing holds the
-// library to the surface; this holds the commands' own reading of vertices, points and lists at split and
-// doubled vertices to the library.
+// near-slivers (random_sliver_case), read from an OBJ file with a vertex no face uses added. What `distance` (targets,
+// labels, query points, sources and targets given in space), `pairs`, `matrix` and `path` write is the library's answer
+// on the same soup: bit for bit where the library's answer is the same on any thread count (pairs, matrix rows) or the
+// command runs one thread, to 1e-14 of the largest distance on two. The fuzzing holds the library to the surface; this
+// holds the commands' own reading of vertices, points and lists at split and doubled vertices to the library.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -93,11 +92,9 @@ class CliJunctions : public Cli {
       family = std::move(c.family);
       soup = std::move(c.soup);
     } else {  // a height field with T-junctions closed by slivers, or by near-slivers (lifted by up to 1e-9)
-      const int nx = 1 + static_cast<int>(random.below(8)), ny = 1 + static_cast<int>(random.below(8));
-      const double lift = seed % 2 == 0 ? 0 : std::pow(10.0, random.uniform(-17, -9));
-      family = "height field with slivers, lift " + shortest(lift);
-      soup = with_t_junctions(random_height_field(random, nx, ny, 0.3, random.below(2) == 0), random,
-                              1 + static_cast<int>(random.below(6)), lift);
+      SliverCase c = random_sliver_case(random, seed % 2 == 1);
+      family = std::move(c.family);
+      soup = std::move(c.soup);
     }
     SCOPED_TRACE(testing::Message() << "seed " << seed << ": " << family);
     const std::uint32_t unused = add_vertex(soup, {7, 7, 7});

@@ -270,6 +270,8 @@ TEST(Fuzz, RandomMeshesKeepEveryProperty) { check_seeds("random", kDefaultCases,
 // inner edges; each mesh checked on one thread (any variant) and on 2, 3 and 8 threads.
 using exactgeo_test::JunctionCase;
 using exactgeo_test::random_junction_case;
+using exactgeo_test::random_sliver_case;
+using exactgeo_test::SliverCase;
 
 // The distances from `source` that the case's pieces give, or nothing where the pieces do not say (a fin).
 std::vector<double> pieces_distances(const JunctionCase& c, std::uint32_t source, const GeodesicOptions& options) {
@@ -577,29 +579,6 @@ exactgeo::SurfacePoint on_glued_surface(const JunctionCase& c, const Mesh& glued
       weight_to += point.barycentric[k];
     }
   return to == from ? exactgeo::vertex_point(glued, from) : exactgeo::edge_point(glued, from, to, weight_to);
-}
-
-// A height field whose sides were split at T-junctions: at a point m of a side ab (not a corner), the face
-// (a, b, c) cut into (a, m, c) and (m, b, c), and a sliver (a, b, m), of no area, joining those to the face
-// beyond ab. `field` is the height field before: the same surface. Slivers may split slivers' sides too.
-struct SliverCase {
-  std::string family;
-  MeshSoup soup, field;
-  int slivers = 0;
-  double lift = 0;  // near-slivers: m off ab by this share of its length, so the surface moved by as much
-};
-
-SliverCase random_sliver_case(Random& random, bool near) {
-  const int nx = 1 + static_cast<int>(random.below(8)), ny = 1 + static_cast<int>(random.below(8));
-  SliverCase c;
-  c.field =
-      exactgeo_test::random_height_field(random, nx, ny, std::pow(10.0, random.uniform(-3, 0)), random.below(2) == 0);
-  c.slivers = 1 + static_cast<int>(random.below(6));
-  if (near) c.lift = (random.below(2) == 0 ? 1 : -1) * std::pow(10.0, random.uniform(-17, -9));
-  c.soup = exactgeo_test::with_t_junctions(c.field, random, c.slivers, c.lift);
-  c.family = "height field " + std::to_string(nx) + "x" + std::to_string(ny) + ", " + std::to_string(c.slivers) +
-             (near ? " near-slivers (lift " + number(c.lift) + ")" : " slivers");
-  return c;
 }
 
 // The same surface as a case's mesh, meshed another way: its soup, and a case's point as a point of it.

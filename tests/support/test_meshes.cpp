@@ -484,6 +484,24 @@ JunctionCase random_junction_case(Random& random) {
   return c;
 }
 
+SliverCase random_sliver_case(Random& random, bool near) {
+  const int nx = 1 + static_cast<int>(random.below(8)), ny = 1 + static_cast<int>(random.below(8));
+  SliverCase c;
+  c.field = random_height_field(random, nx, ny, std::pow(10.0, random.uniform(-3, 0)), random.below(2) == 0);
+  c.slivers = 1 + static_cast<int>(random.below(6));
+  if (near) c.lift = (random.below(2) == 0 ? 1 : -1) * std::pow(10.0, random.uniform(-17, -9));
+  c.soup = with_t_junctions(c.field, random, c.slivers, c.lift);
+  std::ostringstream family;
+  family.precision(17);
+  family << "height field " << nx << "x" << ny << ", " << c.slivers;
+  if (near)
+    family << " near-slivers (lift " << c.lift << ")";
+  else
+    family << " slivers";
+  c.family = family.str();
+  return c;
+}
+
 exactgeo::MeshSoup with_t_junctions(exactgeo::MeshSoup soup, Random& random, int count, double lift) {
   for (int i = 0; i < count; ++i) {
     const std::size_t face = random.below(face_count(soup));

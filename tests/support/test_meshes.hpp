@@ -182,6 +182,17 @@ struct JunctionCase {
 };
 JunctionCase random_junction_case(Random& random);
 
+// A random height field of 1x1 to 8x8 cells whose sides were split at 1 to 6 T-junctions (with_t_junctions):
+// slivers, of no area, or with `near`, near-slivers lifted off their sides by 1e-17 to 1e-9 of their length
+// (either way). `field` is the height field before: the same surface, or within `lift` of it.
+struct SliverCase {
+  std::string family;
+  exactgeo::MeshSoup soup, field;
+  int slivers = 0;
+  double lift = 0;  // near-slivers: m off ab by this share of its length, so the surface moved by as much
+};
+SliverCase random_sliver_case(Random& random, bool near);
+
 // ---- Distances -----------------------------------------------------------------------------------------
 
 // Largest finite value, or 0 if there is none.
