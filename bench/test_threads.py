@@ -148,7 +148,8 @@ def test_the_split_gives_shares_of_the_threads_time(tmp_path):
     [row] = rows_of((tmp_path / "threads.md").read_text(), "Where the threads' time goes")
     # 0.5 s in all, 0.4 s shared by 4 threads (1.6 s of their time), 1.2 s of it busy; one thread took 1.0 s.
     # A quarter of the 0.1 s serial part is the set-up.
-    assert row[1:] == ["4", "500 ms", "20.0%", "5.0%", "75.0%", "1.2x", "10.0%", "2.0%", "1.0%", "7", "1.1x", "12.5", "55"]
+    assert row[1:] == ["4", "500 ms", "20.0%", "5.0%", "75.0%", "1.2x", "10.0%", "2.0%", "1.0%", "7", "1.1x", "12.5",
+                       "55"]
 
 
 def test_stats_without_a_set_up_time_leave_its_cell_empty(tmp_path):
