@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -19,11 +20,61 @@
 
 namespace exactgeo {
 
-void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
-                             const MatrixOptions& options,
-                             const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume) {
+namespace {
+
+// One worker's state per thread, the rows of one block shared between them: work(state, row) for each row in
+// [0, rows), handed out from a shared counter. The first failure stops the block and is thrown here.
+template <class States, class Work>
+void share_rows(States& states, std::size_t rows, const Work& work) {
+  using State = typename States::value_type;
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto take_rows = [&](State& state) {
+    try {
+      for (std::size_t r; (r = next.fetch_add(1)) < rows;) work(state, r);
+    } catch (...) {
+      const std::lock_guard lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next = rows;
+    }
+  };
+  const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(states.size(), rows));
+  std::vector<std::unique_ptr<detail::WorkerThread>> pool;
+  try {
+    for (unsigned t = 1; t < workers && detail::room_for_threads(t); ++t)
+      pool.push_back(std::make_unique<detail::WorkerThread>([&take_rows, &state = states[t]] { take_rows(state); }));
+  } catch (const std::system_error&) {
+    // The system would not start another thread (a process or address-space limit): the rows are shared
+    // from one counter, so the threads that started do them all.
+  }
+  take_rows(states[0]);
+  pool.clear();  // joins
+  if (failure) std::rethrow_exception(failure);
+}
+
+// Worker threads for a matrix: never more than the rows, since each holds a solver as large as the mesh.
+unsigned matrix_threads(const MatrixOptions& options, std::size_t rows) {
+  return static_cast<unsigned>(
+      std::clamp<std::size_t>(detail::threads_or_cores(options.threads), 1, std::max<std::size_t>(1, rows)));
+}
+
+std::size_t block_rows(const MatrixOptions& options, unsigned threads) {
+  return std::max<std::size_t>(1, options.block_rows ? options.block_rows : 4 * threads);
+}
+
+// Checks the options and the sources (throws before any work).
+void check_matrix_request(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                          const MatrixOptions& options) {
   detail::check_options(options.geodesic);
   for (std::uint32_t v : source_vertices) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
+}
+
+// for_each_distance_block, telling `consume` the block's row count too (its rows may have no columns).
+template <class Consume>
+void distance_blocks(const Mesh& mesh, std::span<const std::uint32_t> source_vertices, const MatrixOptions& options,
+                     const Consume& consume) {
+  check_matrix_request(mesh, source_vertices, options);
   // Targets stop each run once final; their columns are then read from the vertex distances, as the full
   // matrix has them (the smallest over a split vertex's copies). The face-sorted variants run whole rows: with
   // targets they drop the windows beyond the farthest one as they go, which changes which of two windows
@@ -37,10 +88,8 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
       if (v >= mesh.vertex_count() || !mesh.surface().copies_of(v).empty())
         targets.push_back(vertex_point(mesh, v));  // throws if out of range
   const std::size_t columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
-  // More threads than rows would only hold idle solvers (each as large as the mesh).
-  const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(
-      detail::threads_or_cores(options.threads), 1, std::max<std::size_t>(1, source_vertices.size())));
-  const std::size_t block_rows = std::max<std::size_t>(1, options.block_rows ? options.block_rows : 4 * threads);
+  const unsigned threads = matrix_threads(options, source_vertices.size());
+  const std::size_t rows_per_block = block_rows(options, threads);
   std::vector<double> block;
   std::vector<GeodesicSolver> solvers;
   for (unsigned t = 0; t < threads; ++t) solvers.emplace_back(mesh);
@@ -48,53 +97,39 @@ void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> so
   GeodesicOptions per_run = options.geodesic;
   per_run.threads = 1;
 
-  for (std::size_t first = 0; first < source_vertices.size(); first += block_rows) {
-    const std::size_t rows = std::min(block_rows, source_vertices.size() - first);
+  for (std::size_t first = 0; first < source_vertices.size(); first += rows_per_block) {
+    const std::size_t rows = std::min(rows_per_block, source_vertices.size() - first);
     block.resize(rows * columns);
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    const auto work = [&](GeodesicSolver& solver) {
-      try {
-        for (std::size_t r; (r = next.fetch_add(1)) < rows;) {
-          detail::throw_if_stopped(options.geodesic.stop);
-          const std::uint32_t source = source_vertices[first + r];
-          const auto row = block.begin() + static_cast<std::ptrdiff_t>(r * columns);
-          if (options.target_vertices && targets.empty()) {  // no column a run can reach
-            std::fill(row, row + static_cast<std::ptrdiff_t>(columns), HUGE_VAL);
-            continue;
-          }
-          const GeodesicResult& result = solver.solve(
-              std::span(&source, 1),
-              stop_at_targets ? std::span<const SurfacePoint>(targets) : std::span<const SurfacePoint>(), per_run);
-          if (options.target_vertices) {
-            const std::vector<std::uint32_t>& column_vertices = *options.target_vertices;
-            for (std::size_t t = 0; t < columns; ++t)
-              row[static_cast<std::ptrdiff_t>(t)] = result.distances[column_vertices[t]];
-          } else {
-            std::copy(result.distances.begin(), result.distances.end(), row);
-          }
-        }
-      } catch (...) {
-        const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next = rows;
+    share_rows(solvers, rows, [&](GeodesicSolver& solver, std::size_t r) {
+      detail::throw_if_stopped(options.geodesic.stop);
+      const std::uint32_t source = source_vertices[first + r];
+      const auto row = block.begin() + static_cast<std::ptrdiff_t>(r * columns);
+      if (options.target_vertices && targets.empty()) {  // no column a run can reach
+        std::fill(row, row + static_cast<std::ptrdiff_t>(columns), HUGE_VAL);
+        return;
       }
-    };
-    const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads, rows));
-    std::vector<std::unique_ptr<detail::WorkerThread>> pool;
-    try {
-      for (unsigned t = 1; t < workers && detail::room_for_threads(t); ++t)
-        pool.push_back(std::make_unique<detail::WorkerThread>([&work, &solver = solvers[t]] { work(solver); }));
-    } catch (const std::system_error&) {
-      // The system would not start another thread (a process or address-space limit): the rows are shared
-      // from one counter, so the threads that started do them all.
-    }
-    work(solvers[0]);
-    pool.clear();  // joins
-    if (failure) std::rethrow_exception(failure);
-    consume(first, block);
+      const GeodesicResult& result = solver.solve(
+          std::span(&source, 1),
+          stop_at_targets ? std::span<const SurfacePoint>(targets) : std::span<const SurfacePoint>(), per_run);
+      if (options.target_vertices) {
+        const std::vector<std::uint32_t>& column_vertices = *options.target_vertices;
+        for (std::size_t t = 0; t < columns; ++t)
+          row[static_cast<std::ptrdiff_t>(t)] = result.distances[column_vertices[t]];
+      } else {
+        std::copy(result.distances.begin(), result.distances.end(), row);
+      }
+    });
+    consume(first, rows, std::span<const double>(block));
   }
+}
+
+}  // namespace
+
+void for_each_distance_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                             const MatrixOptions& options,
+                             const std::function<void(std::size_t first_row, std::span<const double> rows)>& consume) {
+  distance_blocks(mesh, source_vertices, options,
+                  [&](std::size_t first, std::size_t, std::span<const double> rows) { consume(first, rows); });
 }
 
 std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
@@ -107,18 +142,124 @@ std::vector<double> distance_matrix(const Mesh& mesh, std::span<const std::uint3
   return matrix;
 }
 
+namespace {
+
+// The input vertices whose distance surface vertex s carries (as nearest_copy picks it): s's input vertex,
+// and, on a welded mesh, every input vertex welded into it.
+class CarriedVertices {
+ public:
+  explicit CarriedVertices(const detail::SurfaceMesh& surface) : surface_(surface) {
+    if (surface.canonical_input.empty()) return;
+    const auto inputs = static_cast<std::uint32_t>(surface.canonical_input.size());
+    welded_offsets_.assign(inputs + 1, 0);
+    for (const std::uint32_t c : surface.canonical_input) ++welded_offsets_[c + 1];
+    for (std::uint32_t c = 0; c < inputs; ++c) welded_offsets_[c + 1] += welded_offsets_[c];
+    welded_.resize(inputs);
+    std::vector<std::uint32_t> fill(welded_offsets_.begin(), welded_offsets_.end() - 1);
+    for (std::uint32_t v = 0; v < inputs; ++v) welded_[fill[surface.canonical_input[v]]++] = v;
+  }
+  std::span<const std::uint32_t> of(std::uint32_t surface_vertex) const {
+    const std::uint32_t& input = surface_.surface_to_input[surface_vertex];
+    if (welded_offsets_.empty()) return {&input, 1};
+    const std::uint32_t c = surface_.canonical(input);
+    return {welded_.data() + welded_offsets_[c], welded_.data() + welded_offsets_[c + 1]};
+  }
+
+ private:
+  const detail::SurfaceMesh& surface_;
+  std::vector<std::uint32_t> welded_offsets_, welded_;  // per canonical input vertex: the vertices welded into it
+};
+
+struct SparseRowWorker {
+  explicit SparseRowWorker(const detail::SurfaceMesh& surface) : engine(surface) {}
+  detail::VtpEngine engine;
+  std::vector<detail::SourceSite> sites;
+};
+
+struct Entry {
+  std::uint32_t column;
+  double distance;
+};
+
+}  // namespace
+
+void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
+                           const MatrixOptions& options,
+                           const std::function<void(std::size_t first_row, const SparseDistances& block)>& consume) {
+  if (options.target_vertices) {  // the targets' columns: from the dense rows, which stop at the targets
+    distance_blocks(mesh, source_vertices, options,
+                    [&](std::size_t first, std::size_t rows, std::span<const double> dense) {
+                      SparseDistances block;
+                      block.rows = rows;
+                      block.columns = options.target_vertices->size();
+                      for (std::size_t i = 0; i < dense.size(); ++i) {
+                        if (std::isinf(dense[i])) continue;
+                        block.row.push_back(static_cast<std::uint32_t>(first + i / block.columns));
+                        block.column.push_back(static_cast<std::uint32_t>(i % block.columns));
+                        block.distance.push_back(dense[i]);
+                      }
+                      consume(first, block);
+                    });
+    return;
+  }
+  check_matrix_request(mesh, source_vertices, options);
+  const detail::SurfaceMesh& surface = mesh.surface();
+  const CarriedVertices carried(surface);
+  const unsigned threads = matrix_threads(options, source_vertices.size());
+  const std::size_t rows_per_block = block_rows(options, threads);
+  std::deque<SparseRowWorker> workers;  // an engine does not move
+  for (unsigned t = 0; t < threads; ++t) workers.emplace_back(surface);
+  GeodesicOptions per_run = options.geodesic;
+  per_run.threads = 1;
+  std::vector<std::vector<Entry>> rows_entries;
+  for (std::size_t first = 0; first < source_vertices.size(); first += rows_per_block) {
+    const std::size_t rows = std::min(rows_per_block, source_vertices.size() - first);
+    rows_entries.resize(rows);
+    share_rows(workers, rows, [&](SparseRowWorker& worker, std::size_t r) {
+      detail::throw_if_stopped(options.geodesic.stop);
+      worker.sites.clear();
+      for (const std::uint32_t copy : detail::source_vertex_copies(surface, source_vertices[first + r]))
+        worker.sites.push_back({detail::LocatedPoint{.vertex = copy}, 0});
+      worker.engine.run(worker.sites, {}, per_run);
+      // The row's entries as the dense row has them: an input vertex's distance is its nearest copy's, so
+      // only that copy gives its entries. A run that stopped early lists the few vertices it reached.
+      std::vector<Entry>& entries = rows_entries[r];
+      entries.clear();
+      const std::span<const double> d = worker.engine.distances();
+      const auto add = [&](std::uint32_t s) {
+        if (!worker.engine.answers(d[s]) || surface.nearest_copy(surface.surface_to_input[s], d) != s) return;
+        for (const std::uint32_t v : carried.of(s)) entries.push_back({v, surface.to_input_length(d[s])});
+      };
+      if (const auto reached = worker.engine.reached_vertices()) {
+        for (const std::uint32_t s : *reached) add(s);
+      } else {
+        for (std::uint32_t s = 0; s < surface.vertex_count; ++s) add(s);
+      }
+      std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.column < b.column; });
+    });
+    SparseDistances block;
+    block.rows = rows;
+    block.columns = mesh.vertex_count();
+    for (std::size_t r = 0; r < rows; ++r) {
+      for (const Entry& e : rows_entries[r]) {
+        block.row.push_back(static_cast<std::uint32_t>(first + r));
+        block.column.push_back(e.column);
+        block.distance.push_back(e.distance);
+      }
+    }
+    consume(first, block);
+  }
+}
+
 SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                        const MatrixOptions& options) {
   SparseDistances sparse;
   sparse.rows = source_vertices.size();
   sparse.columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
-  for_each_distance_block(mesh, source_vertices, options, [&](std::size_t first, std::span<const double> rows) {
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      if (std::isinf(rows[i])) continue;
-      sparse.row.push_back(static_cast<std::uint32_t>(first + i / sparse.columns));
-      sparse.column.push_back(static_cast<std::uint32_t>(i % sparse.columns));
-      sparse.distance.push_back(rows[i]);
-    }
+  for_each_sparse_block(mesh, source_vertices, options, [&](std::size_t, const SparseDistances& block) {
+    sparse.row.insert(sparse.row.end(), block.row.begin(), block.row.end());
+    sparse.column.insert(sparse.column.end(), block.column.begin(), block.column.end());
+    sparse.distance.insert(sparse.distance.end(), block.distance.begin(), block.distance.end());
   });
   return sparse;
 }

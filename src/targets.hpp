@@ -73,46 +73,57 @@ class RunTargets {
     LocatedPoint at;
   };
 
-  // Forgets the last run's targets and lists these, none reached yet.
+  // Forgets the last run's targets and lists these, none reached yet. The per-vertex and per-face marks are
+  // kept from run to run and only the last run's targets are unmarked, so that a run with a few targets on a
+  // large mesh (a pair search, a nearby target) does not pay for the mesh's size.
   void assign(const SurfaceMesh& mesh, std::span<const LocatedPoint> targets) {
+    for (const LocatedPoint& point : points_)
+      if (point.vertex != kNone)
+        for (std::uint32_t copy : mesh.copies_with(point.vertex)) is_vertex_[copy] = 0;
+    for (const std::uint32_t f : faces_) face_range_[f] = kNone;
+    faces_.clear();
+    first_of_face_.clear();
+    face_targets_.clear();
     points_.assign(targets.begin(), targets.end());
     distance_.assign(targets.size(), HUGE_VAL);
     arrival_.assign(targets.size(), Arrival{});
-    face_offsets_.clear();
-    face_targets_.clear();
-    is_vertex_.clear();
-    if (targets.empty()) return;
-    is_vertex_.assign(mesh.vertex_count, 0);
-    face_offsets_.assign(mesh.face_count() + 1, 0);
     // A target inside a face or on an edge is listed in every face that holds it.
-    std::vector<InFace> placed;
     for (std::uint32_t t = 0; t < points_.size(); ++t) {
       if (points_[t].vertex != kNone) {
         // A target at a vertex is that input vertex, carried by whichever of its copies is nearest: lowering
         // any copy may lower it.
+        if (is_vertex_.size() != mesh.vertex_count) is_vertex_.assign(mesh.vertex_count, 0);
         for (std::uint32_t copy : mesh.copies_with(points_[t].vertex)) is_vertex_[copy] = 1;
         continue;
       }
-      for_each_placement(mesh, points_[t], [&](const LocatedPoint& at) {
-        placed.push_back({t, at});
-        ++face_offsets_[at.face + 1];
-      });
+      for_each_placement(mesh, points_[t], [&](const LocatedPoint& at) { face_targets_.push_back({t, at}); });
     }
-    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) face_offsets_[f + 1] += face_offsets_[f];
-    face_targets_.resize(face_offsets_.back());
-    std::vector<std::uint32_t> fill(face_offsets_.begin(), face_offsets_.end() - 1);
-    for (const InFace& target : placed) face_targets_[fill[target.at.face]++] = target;
-    // Each face's targets fill exactly its slots [offsets[f], offsets[f + 1]).
-    EXACTGEO_ASSERT(std::equal(fill.begin(), fill.end(), face_offsets_.begin() + 1));
+    if (face_targets_.empty()) return;
+    // Grouped by face (in target order within one), each face's group found through face_range_.
+    std::stable_sort(face_targets_.begin(), face_targets_.end(),
+                     [](const InFace& a, const InFace& b) { return a.at.face < b.at.face; });
+    if (face_range_.size() != mesh.face_count()) face_range_.assign(mesh.face_count(), kNone);
+    for (std::uint32_t i = 0; i < face_targets_.size(); ++i) {
+      const std::uint32_t f = face_targets_[i].at.face;
+      if (faces_.empty() || faces_.back() != f) {
+        face_range_[f] = static_cast<std::uint32_t>(faces_.size());
+        faces_.push_back(f);
+        first_of_face_.push_back(i);
+      }
+    }
+    first_of_face_.push_back(static_cast<std::uint32_t>(face_targets_.size()));
   }
 
   const std::vector<LocatedPoint>& points() const { return points_; }
   const std::vector<double>& distances() const { return distance_; }  // in the engine's frame
   const std::vector<Arrival>& arrivals() const { return arrival_; }
-  // Whether some target lies inside a face or on an edge; the targets that face f holds.
-  bool in_faces() const { return !face_offsets_.empty(); }
+  // Whether some target lies inside a face or on an edge; the faces that hold one; the targets that face f holds.
+  bool in_faces() const { return !faces_.empty(); }
+  const std::vector<std::uint32_t>& faces() const { return faces_; }
   std::span<const InFace> in_face(std::uint32_t f) const {
-    return {face_targets_.data() + face_offsets_[f], face_targets_.data() + face_offsets_[f + 1]};
+    const std::uint32_t range = face_range_[f];
+    if (range == kNone) return {};
+    return {face_targets_.data() + first_of_face_[range], face_targets_.data() + first_of_face_[range + 1]};
   }
   // Whether surface vertex v carries a target (is a copy of a target's input vertex).
   bool at_vertex(std::uint32_t v) const { return !is_vertex_.empty() && is_vertex_[v]; }
@@ -171,9 +182,11 @@ class RunTargets {
   std::vector<LocatedPoint> points_;
   std::vector<double> distance_;
   std::vector<Arrival> arrival_;
-  std::vector<std::uint32_t> face_offsets_;  // per surface face, empty without targets
-  std::vector<InFace> face_targets_;
-  std::vector<std::uint8_t> is_vertex_;                     // per surface vertex, empty without targets
+  std::vector<InFace> face_targets_;          // grouped by face
+  std::vector<std::uint32_t> faces_;          // the faces holding targets, in order
+  std::vector<std::uint32_t> first_of_face_;  // faces_[i]'s targets: face_targets_[first_of_face_[i], [i + 1])
+  std::vector<std::uint32_t> face_range_;     // per surface face: its index in faces_, kNone if it holds none
+  std::vector<std::uint8_t> is_vertex_;       // per surface vertex, once a run had a target at a vertex
 };
 
 }  // namespace exactgeo::detail

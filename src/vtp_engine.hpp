@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -72,6 +73,13 @@ class VtpEngine {
   bool answers(double d) const { return d < HUGE_VAL && d <= state_.cutoff; }
   std::span<const double> distances() const { return state_.distance; }  // per surface vertex
   std::span<const Arrival> arrivals() const { return state_.arrival; }   // per surface vertex
+  // Every surface vertex the last run gave a finite distance (some of them beyond the cut-off), in the order
+  // it reached them, so that a run that stopped early can be read in the time it took; none if the run
+  // cannot list them (on several threads, face-sorted, or stopped), when distances() is to be read whole.
+  std::optional<std::span<const std::uint32_t>> reached_vertices() const {
+    if (!reached_complete_) return std::nullopt;
+    return reached_;
+  }
   const std::vector<double>& target_distances() const { return state_.targets.distances(); }
   const std::vector<Arrival>& target_arrivals() const { return state_.targets.arrivals(); }
   const std::vector<SourceSite>& sources() const { return sources_; }
@@ -94,6 +102,9 @@ class VtpEngine {
  private:
   friend class ParallelPropagation;  // the parallel twins of the steps below
 
+  void reset_state();
+  void reset_reached();
+  bool state_is_reset() const;
   void run_vertex_sorted();
   void enclose_vertex(std::uint32_t v);
   void move_inside(std::uint32_t v);
@@ -153,6 +164,14 @@ class VtpEngine {
   std::vector<double> splits_, key_splits_;
   // With threads above 1 (vertex-sorted): the thread team, kept from run to run, and the bands.
   std::unique_ptr<ParallelPropagation> parallel_;
+
+  // The surface vertices the last run reached. A run that stops early (a cut-off, near targets, a pair search)
+  // changes only what lies around them, and the next run resets just that (reset_reached), so that it costs
+  // what it reaches rather than the mesh's size. Complete only after a one-thread vertex-sorted run that
+  // ended normally; otherwise, or when it lists more than a share of the vertices, the next run resets all.
+  std::vector<std::uint32_t> reached_;
+  bool reached_complete_ = false;
+  static constexpr std::uint32_t kResetAllFromShare = 8;  // a run reaching more than 1/8 of the vertices
 
   bool targets_changed_ = false;               // since update_cutoff: the farthest target may have changed
   bool goal_directed_ = false;                 // asked for (set_goal_directed)

@@ -13,9 +13,15 @@ namespace exactgeo::detail {
 
 class WavefrontQueue {
  public:
+  // Empties the queue for ids [0, id_count). Only the ids still queued have a position to forget, so a run
+  // that stopped early on a large mesh leaves the next one a reset as small as its wavefront.
   void reset(std::size_t id_count) {
+    if (position_.size() == id_count) {
+      for (const Entry& e : heap_) position_[e.id] = kNone;
+    } else {
+      position_.assign(id_count, kNone);
+    }
     heap_.clear();
-    position_.assign(id_count, kNone);
   }
   bool empty() const { return heap_.empty(); }
   bool contains(std::uint32_t id) const { return position_[id] != kNone; }

@@ -61,9 +61,20 @@ class WindowLists {
     for_parts(halfedge_count, [this](std::size_t begin, std::size_t end) {
       std::uninitialized_fill(lists_.get() + begin, lists_.get() + end, List{});
     });
+    start_run(threads);
+  }
+  // For a run on `threads` threads once every list is empty (after reset, or a run that crossed every list it
+  // made): the last run's blocks go with their chunks.
+  void start_run(unsigned threads) {
     allocators_.clear();
     allocators_.resize(threads);
     peak_sum_ = 0;
+  }
+  // Whether h's record is an empty list's with no marks, as reset leaves it.
+  bool untouched(std::uint32_t h) const {
+    const List& list = lists_[h];
+    return list.data == nullptr && list.size == 0 && list.capacity_log2 == 0 && list.runs == 0 && list.scheduled == 0 &&
+           list.depth == 0;
   }
   bool empty(std::uint32_t h) const { return lists_[h].size == 0; }
 

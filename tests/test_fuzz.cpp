@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -894,6 +895,168 @@ TEST(Fuzz, PointQueriesOnSlivers) {
 TEST(Fuzz, PointQueriesOnNearSlivers) {
   check_seeds("near-sliver point-query", kDefaultJunctionPointCases, check_near_sliver_point_seed);
 }
+
+// ---- Runs on a reused solver --------------------------------------------------------------------------------
+
+// A solver resets before each run only what the run before reached, where it knows that (one thread,
+// vertex-sorted, and a small part of the mesh): the vertices it reached, their faces and the lists on and
+// across those faces' sides (src/vtp_engine.cpp, reset_reached). These cases run a random sequence of runs on
+// one solver (any variant, 1 to 3 threads, cut-offs from a thousandth of the mesh's extent to none, vertex and
+// point sources and targets, kept windows now and then) on random meshes of every family above (with
+// junctions, slivers and near-slivers, welded or not), and hold each to a fresh solver's run: bit for bit on
+// one thread, with the same paths; on several, to the threads' promise. Pair searches (one engine through
+// many pairs) and the sparse matrices (rows read from the vertices a run reached) likewise.
+constexpr std::uint64_t kDefaultReuseCases = 150;
+
+MeshSoup random_reuse_mesh(Random& random, std::string& family) {
+  switch (random.below(4)) {
+    case 0: {
+      exactgeo_test::JunctionCase c = exactgeo_test::random_junction_case(random);
+      family = c.family;
+      return std::move(c.soup);
+    }
+    case 1: {
+      exactgeo_test::SliverCase c = exactgeo_test::random_sliver_case(random, random.below(2) == 0);
+      family = c.family;
+      return std::move(c.soup);
+    }
+    default: {
+      FuzzCase c = random_case(random);
+      family = c.family;
+      return std::move(c.soup);
+    }
+  }
+}
+
+// The default variant most often, any other a third of the time.
+exactgeo::Algorithm random_algorithm(Random& random) {
+  return random.below(3) == 0 ? exactgeo::kAlgorithmNames[random.below(exactgeo::kAlgorithmNames.size())].first
+                              : GeodesicOptions{}.algorithm;
+}
+
+// A random site: a vertex (as a point at it), or a point inside a face or on an edge. Welding may drop faces
+// that random_face_point would take (their corners merged): there, vertices only.
+exactgeo::SurfacePoint random_site(const MeshSoup& soup, const Mesh& mesh, Random& random) {
+  if (mesh.report().welded_vertices > 0 || random.below(2) == 0)
+    return exactgeo::vertex_point(mesh, exactgeo_test::random_source_vertex(soup, random.below(1u << 30)));
+  return exactgeo_test::random_face_point(soup, random, static_cast<int>(random.below(2)));
+}
+
+bool same_bits(std::span<const double> a, std::span<const double> b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](double x, double y) {
+           return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+         });
+}
+
+void check_reused_runs(const MeshSoup& soup, const Mesh& mesh, Random& random, Failures& failures) {
+  const std::uint32_t first = exactgeo_test::random_source_vertex(soup, random.below(1u << 30));
+  const double extent = exactgeo_test::max_finite(exactgeo::geodesic_distance(mesh, first).distances);
+  exactgeo::GeodesicSolver reused(mesh);
+  for (int run = 0; run < 10; ++run) {
+    GeodesicOptions options;
+    options.algorithm = random_algorithm(random);
+    options.threads = random.below(5) == 0 ? 2 + static_cast<unsigned>(random.below(2)) : 1;
+    if (random.below(4) != 0) options.max_distance = extent * std::pow(10.0, random.uniform(-3, 0));
+    options.keep_windows = random.below(8) == 0;
+    std::vector<exactgeo::SurfacePoint> sources(1 + random.below(2)), targets(random.below(4));
+    const bool at_points = mesh.report().welded_vertices == 0 && random.below(3) == 0;  // all vertices, or all points
+    for (exactgeo::SurfacePoint& p : sources)
+      p = at_points ? exactgeo_test::random_face_point(soup, random, 0)
+                    : exactgeo::vertex_point(mesh, exactgeo_test::random_source_vertex(soup, random.below(1u << 30)));
+    for (exactgeo::SurfacePoint& p : targets) p = random_site(soup, mesh, random);
+    const std::string what = "run " + std::to_string(run) + " (" + exactgeo_test::variant_label(options) +
+                             ", cut-off " + number(options.max_distance) + ", " + std::to_string(targets.size()) +
+                             " targets): ";
+    const exactgeo::GeodesicResult& got = reused.solve(sources, targets, options);
+    exactgeo::GeodesicSolver fresh(mesh);
+    const exactgeo::GeodesicResult& want = fresh.solve(sources, targets, options);
+    const bool one_thread = options.threads == 1 || options.algorithm == exactgeo::Algorithm::ftp ||
+                            options.algorithm == exactgeo::Algorithm::opftp;  // which run on one thread
+    if (!one_thread) {
+      if (const auto match = exactgeo_test::same_run_distances(got.distances, want.distances, options); !match)
+        failures.add(what + match.message());
+      continue;
+    }
+    if (!same_bits(got.distances, want.distances) || got.nearest_source != want.nearest_source)
+      failures.add(what + "vertex distances or labels differ from a fresh solver's");
+    if (!same_bits(got.target_distances, want.target_distances) ||
+        got.target_nearest_source != want.target_nearest_source)
+      failures.add(what + "target distances or labels differ from a fresh solver's");
+    // A path through what the run reached, the same point for point.
+    std::vector<std::uint32_t> reached;
+    for (std::uint32_t v = 0; v < got.distances.size(); ++v)
+      if (std::isfinite(got.distances[v])) reached.push_back(v);
+    if (reached.empty()) continue;
+    const std::uint32_t v = reached[random.below(reached.size())];
+    try {
+      if (reused.path_to_vertex(v).points != fresh.path_to_vertex(v).points)
+        failures.add(what + "path to vertex " + std::to_string(v) + " differs from a fresh solver's");
+    } catch (const exactgeo::Error& error) {
+      failures.add(what + "path to vertex " + std::to_string(v) + ": " + error.what());
+    }
+  }
+}
+
+void check_reused_pairs(const MeshSoup& soup, const Mesh& mesh, Random& random, Failures& failures) {
+  std::vector<exactgeo::SurfacePoint> a(6), b(6);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    a[i] = random_site(soup, mesh, random);
+    b[i] = random_site(soup, mesh, random);
+  }
+  const exactgeo::PairOptions options{.geodesic = {}, .threads = 1};
+  const std::vector<double> together = exactgeo::pair_distances(mesh, a, b, options).distances;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double alone = exactgeo::pair_distances(mesh, std::span(&a[i], 1), std::span(&b[i], 1), options).distances[0];
+    if (std::bit_cast<std::uint64_t>(together[i]) != std::bit_cast<std::uint64_t>(alone))
+      failures.add("pair " + std::to_string(i) + ": " + number(together[i]) + " after other pairs, " + number(alone) +
+                   " alone");
+  }
+}
+
+void check_sparse_rows(const MeshSoup& soup, const Mesh& mesh, Random& random, Failures& failures) {
+  std::vector<std::uint32_t> sources(1 + random.below(6));
+  for (std::uint32_t& v : sources) v = exactgeo_test::random_source_vertex(soup, random.below(1u << 30));
+  exactgeo::MatrixOptions options;
+  options.geodesic.algorithm = random_algorithm(random);
+  options.threads = 1 + static_cast<unsigned>(random.below(3));
+  const std::vector<double> dense = exactgeo::distance_matrix(mesh, sources, options);
+  options.geodesic.max_distance = exactgeo_test::max_finite(dense) * std::pow(10.0, random.uniform(-2, 0));
+  const std::vector<double> cut = exactgeo::distance_matrix(mesh, sources, options);
+  const exactgeo::SparseDistances sparse = exactgeo::sparse_distance_matrix(mesh, sources, options);
+  const std::size_t n = mesh.vertex_count();
+  std::vector<std::uint32_t> row, column;
+  std::vector<double> distance;
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    if (std::isinf(cut[i])) continue;
+    row.push_back(static_cast<std::uint32_t>(i / n));
+    column.push_back(static_cast<std::uint32_t>(i % n));
+    distance.push_back(cut[i]);
+  }
+  if (sparse.row != row || sparse.column != column || !same_bits(sparse.distance, distance))
+    failures.add("sparse matrix (" + exactgeo_test::variant_label(options.geodesic) + ", cut-off " +
+                 number(options.geodesic.max_distance) + "): " + std::to_string(sparse.distance.size()) +
+                 " entries, the dense matrix has " + std::to_string(distance.size()) + " finite ones or others");
+}
+
+bool check_reuse_seed(std::uint64_t seed) {
+  Random random(seed);
+  std::string family;
+  const MeshSoup soup = random_reuse_mesh(random, family);
+  const bool weld = random.below(4) == 0;
+  if (weld) family += ", welded";
+  const Mesh mesh(soup, {.weld_duplicate_positions = weld});
+  Failures failures;
+  try {
+    check_reused_runs(soup, mesh, random, failures);
+    check_reused_pairs(soup, mesh, random, failures);
+    check_sparse_rows(soup, mesh, random, failures);
+  } catch (const exactgeo::Error& error) {
+    failures.add(std::string("exactgeo::Error ") + error.what());
+  }
+  return held(seed, family, failures, "ReusedSolversAgreeWithFreshOnes");
+}
+
+TEST(Fuzz, ReusedSolversAgreeWithFreshOnes) { check_seeds("reuse", kDefaultReuseCases, check_reuse_seed); }
 
 // Found by `make fuzz` (40,000 cases): paths 4e-11 (seed 13198: a 6x7 height field whose ray runs along a row
 // of vertices, on every thread count) and 8e-12 to 2e-10 (seeds 13201, 22094, 25690: triangles over 1,000 times

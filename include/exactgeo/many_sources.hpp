@@ -47,6 +47,13 @@ struct SparseDistances {
   std::vector<std::uint32_t> row, column;
   std::vector<double> distance;
 };
+// The same as for_each_distance_block, each block of rows as its finite entries (`rows` of them in the block,
+// row numbers counting from the matrix's first row), for matrices too large to hold dense: with max_distance
+// and no target_vertices a run costs what it reaches, not the mesh's size, on the one-thread vertex-sorted
+// variants. Entries in row-major order, each row's by column.
+EXACTGEO_API void for_each_sparse_block(
+    const Mesh& mesh, std::span<const std::uint32_t> source_vertices, const MatrixOptions& options,
+    const std::function<void(std::size_t first_row, const SparseDistances& block)>& consume);
 EXACTGEO_API SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                        const MatrixOptions& options = {});
 

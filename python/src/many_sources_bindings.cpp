@@ -77,27 +77,26 @@ void register_many_sources(nb::module_& m) {
       [matrix_options](const exactgeo::Mesh& mesh, const IndexArray& sources, const IndexArray& targets,
                        bool has_targets, exactgeo::GeodesicOptions options, unsigned threads,
                        const nb::object& progress) {
-        const std::size_t rows = sources.shape(0), columns = has_targets ? targets.shape(0) : mesh.vertex_count();
+        const std::size_t rows = sources.shape(0);
         std::vector<double> values;
         std::vector<std::uint32_t> column_indices;
         std::vector<std::int64_t> row_offsets = {0};
         run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
           options.stop = stop;
           counter.total = rows;
-          if (columns == 0) row_offsets.assign(rows + 1, 0);  // no entries, and no block to count rows in
-          exactgeo::for_each_distance_block(mesh, span_of(sources),
-                                            matrix_options(options, threads, targets, has_targets),
-                                            [&](std::size_t first, std::span<const double> block) {
-                                              for (std::size_t i = 0; i < block.size(); ++i) {
-                                                if (!std::isinf(block[i])) {
-                                                  values.push_back(block[i]);
-                                                  column_indices.push_back(static_cast<std::uint32_t>(i % columns));
-                                                }
-                                                if ((i + 1) % columns == 0)
-                                                  row_offsets.push_back(std::int64_t(values.size()));
-                                              }
-                                              counter.done = first + (columns ? block.size() / columns : 0);
-                                            });
+          exactgeo::for_each_sparse_block(
+              mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
+              [&](std::size_t first, const exactgeo::SparseDistances& block) {
+                values.insert(values.end(), block.distance.begin(), block.distance.end());
+                column_indices.insert(column_indices.end(), block.column.begin(), block.column.end());
+                // Entries come in row order: each row ends where the next row's entries start.
+                std::size_t k = 0;
+                for (std::size_t r = first; r < first + block.rows; ++r) {
+                  while (k < block.row.size() && block.row[k] == r) ++k;
+                  row_offsets.push_back(std::int64_t(values.size() - block.row.size() + k));
+                }
+                counter.done = first + block.rows;
+              });
           return true;
         });
         const std::size_t entries = values.size();
