@@ -194,7 +194,7 @@ void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> sour
                       block.columns = options.target_vertices->size();
                       for (std::size_t i = 0; i < dense.size(); ++i) {
                         if (std::isinf(dense[i])) continue;
-                        block.row.push_back(static_cast<std::uint32_t>(first + i / block.columns));
+                        block.row.push_back(static_cast<std::uint32_t>(i / block.columns));
                         block.column.push_back(static_cast<std::uint32_t>(i % block.columns));
                         block.distance.push_back(dense[i]);
                       }
@@ -242,7 +242,7 @@ void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> sour
     block.columns = mesh.vertex_count();
     for (std::size_t r = 0; r < rows; ++r) {
       for (const Entry& e : rows_entries[r]) {
-        block.row.push_back(static_cast<std::uint32_t>(first + r));
+        block.row.push_back(static_cast<std::uint32_t>(r));
         block.column.push_back(e.column);
         block.distance.push_back(e.distance);
       }
@@ -256,8 +256,8 @@ SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::ui
   SparseDistances sparse;
   sparse.rows = source_vertices.size();
   sparse.columns = options.target_vertices ? options.target_vertices->size() : mesh.vertex_count();
-  for_each_sparse_block(mesh, source_vertices, options, [&](std::size_t, const SparseDistances& block) {
-    sparse.row.insert(sparse.row.end(), block.row.begin(), block.row.end());
+  for_each_sparse_block(mesh, source_vertices, options, [&](std::size_t first, const SparseDistances& block) {
+    for (const std::uint32_t r : block.row) sparse.row.push_back(static_cast<std::uint32_t>(first + r));
     sparse.column.insert(sparse.column.end(), block.column.begin(), block.column.end());
     sparse.distance.insert(sparse.distance.end(), block.distance.begin(), block.distance.end());
   });

@@ -174,9 +174,19 @@ struct SmallMatrix {
     request.quiet = true;
     const std::size_t columns = mesh.vertex_count();
     const auto writer = exactgeo::cli::open_matrix_store(store.string(), {sources, {}, columns}, request);
-    for (const exactgeo::cli::RowRange& range : writer->row_ranges(sources.size()))
-      writer->write_rows(range.first,
-                         std::span(rows).subspan(range.first * columns, (range.end - range.first) * columns));
+    for (const exactgeo::cli::RowRange& range : writer->row_ranges(sources.size())) {
+      if (max_distance) {  // a cut-off matrix's rows come as their finite entries
+        exactgeo::MatrixOptions options;
+        options.geodesic.max_distance = *max_distance;
+        exactgeo::for_each_sparse_block(mesh, std::span(sources).subspan(range.first, range.end - range.first), options,
+                                        [&](std::size_t first, const exactgeo::SparseDistances& block) {
+                                          writer->write_sparse_rows(range.first + first, block);
+                                        });
+      } else {
+        writer->write_rows(range.first,
+                           std::span(rows).subspan(range.first * columns, (range.end - range.first) * columns));
+      }
+    }
     writer->finish();
   }
 

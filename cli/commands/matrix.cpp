@@ -97,6 +97,15 @@ int run_matrix(const MatrixArguments& arguments) {
   Progress progress("rows", rows_wanted, arguments.quiet);
   for (const RowRange& range : ranges) {
     const auto range_sources = std::span(sources).subspan(range.first, range.end - range.first);
+    if (store.max_distance) {  // a row costs what its run reaches, not the mesh's size
+      exactgeo::for_each_sparse_block(mesh, range_sources, options,
+                                      [&](std::size_t first, const exactgeo::SparseDistances& block) {
+                                        writer->write_sparse_rows(range.first + first, block);
+                                        rows_done += block.rows;
+                                        progress.update(rows_done);
+                                      });
+      continue;
+    }
     exactgeo::for_each_distance_block(mesh, range_sources, options, [&](std::size_t first, std::span<const double> rows) {
       writer->write_rows(range.first + first, rows);
       rows_done += columns ? rows.size() / columns : 0;

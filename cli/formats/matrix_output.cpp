@@ -9,6 +9,14 @@
 #include "zarr_store.hpp"
 
 namespace exactgeo::cli {
+
+void MatrixWriter::write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& block) {
+  std::vector<double> rows(block.rows * block.columns, HUGE_VAL);
+  for (std::size_t k = 0; k < block.distance.size(); ++k)
+    rows[block.row[k] * block.columns + block.column[k]] = block.distance[k];
+  write_rows(first_row, rows);
+}
+
 namespace {
 
 // A matrix written through a stream: the file appears when finish() commits it.
@@ -44,13 +52,18 @@ class CsvMatrixWriter final : public FileMatrixWriter {
     std::fputs(axes.targets.empty() ? "source,vertex,distance\n" : "source,target,distance\n", file_);
   }
   void write_rows(std::size_t first_row, std::span<const double> rows) override {
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      if (std::isinf(rows[i])) continue;
-      std::fprintf(file_, "%zu,%zu,%.17g\n", first_row + i / columns_, i % columns_, rows[i]);
-    }
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (!std::isinf(rows[i])) write_entry(first_row + i / columns_, i % columns_, rows[i]);
+  }
+  void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& block) override {
+    for (std::size_t k = 0; k < block.distance.size(); ++k)
+      write_entry(first_row + block.row[k], block.column[k], block.distance[k]);
   }
 
  private:
+  void write_entry(std::size_t row, std::size_t column, double distance) {
+    std::fprintf(file_, "%zu,%zu,%.17g\n", row, column, distance);
+  }
   std::size_t columns_;
 };
 
@@ -76,9 +89,15 @@ class NpzMatrixWriter final : public MatrixWriter {
       }
       indptr_.push_back(static_cast<std::int64_t>(entries_ + data.size()));
     }
-    entries_ += data.size();
-    data_.append(little_endian_bytes(data), data.size());
-    indices_.append(little_endian_bytes(indices), indices.size());
+    append(data, indices);
+  }
+  void write_sparse_rows(std::size_t, const exactgeo::SparseDistances& block) override {
+    std::size_t k = 0;
+    for (std::size_t r = 0; r < block.rows; ++r) {
+      while (k < block.row.size() && block.row[k] == r) ++k;
+      indptr_.push_back(static_cast<std::int64_t>(entries_ + k));
+    }
+    append(block.distance, std::vector<std::int32_t>(block.column.begin(), block.column.end()));
   }
   void finish() override {
     const std::vector<std::int64_t> shape = {static_cast<std::int64_t>(rows_), static_cast<std::int64_t>(columns_)};
@@ -96,6 +115,11 @@ class NpzMatrixWriter final : public MatrixWriter {
   }
 
  private:
+  void append(const std::vector<double>& data, const std::vector<std::int32_t>& indices) {
+    entries_ += data.size();
+    data_.append(little_endian_bytes(data), data.size());
+    indices_.append(little_endian_bytes(indices), indices.size());
+  }
   OutputFile output_;
   std::size_t rows_, columns_;
   std::vector<std::int64_t> sources_, targets_;

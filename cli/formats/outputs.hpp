@@ -141,6 +141,9 @@ class MatrixWriter {
   // The rows it wants, in order: every row for a file; a store's shard (less the blocks done, when resuming).
   virtual std::vector<RowRange> row_ranges(std::size_t rows) const { return {{0, rows}}; }
   virtual void write_rows(std::size_t first_row, std::span<const double> rows) = 0;
+  // Rows [first_row, first_row + block.rows) of a cut-off matrix, as their finite entries
+  // (exactgeo::for_each_sparse_block): by default written as the dense rows they stand for.
+  virtual void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& block);
   // Completes the file; until then it is not a valid result.
   virtual void finish() = 0;
 };

@@ -50,17 +50,43 @@ class StoreWriter final : public MatrixWriter {
   }
 
   void write_rows(std::size_t first_row, std::span<const double> rows) override {
+    if (store_.settings.max_distance)  // the command gives a cut-off matrix's rows as their finite entries
+      throw exactgeo::Error(exactgeo::ErrorCode::internal, "dense rows for a sparse store");
     if (pending_.empty()) pending_first_ = first_row;
     pending_.insert(pending_.end(), rows.begin(), rows.end());
     const std::size_t block = pending_first_ / store_.shape.block_rows;
     const std::size_t end = store_.shape.end(block);
     if (pending_.size() < (end - pending_first_) * store_.shape.columns) return;
-    write_block(block, end);
+    write_dense(block, end);
     pending_.clear();
+  }
+  // A sparse store's blocks are CSR pieces, row pointers from 0 in each; a dense store takes the rows whole.
+  void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& rows) override {
+    if (!store_.settings.max_distance) return MatrixWriter::write_sparse_rows(first_row, rows);
+    if (pending_rows_ == 0) pending_first_ = first_row;
+    std::size_t k = 0;
+    for (std::size_t r = 0; r < rows.rows; ++r) {
+      while (k < rows.row.size() && rows.row[k] == r) {
+        pending_.push_back(rows.distance[k]);
+        pending_indices_.push_back(rows.column[k]);
+        ++k;
+      }
+      pending_indptr_.push_back(static_cast<std::int64_t>(pending_.size()));
+    }
+    pending_rows_ += rows.rows;
+    const std::size_t block = pending_first_ / store_.shape.block_rows;
+    const std::size_t end = store_.shape.end(block);
+    if (pending_first_ + pending_rows_ < end) return;
+    write_sparse(block, end);
+    pending_.clear();
+    pending_indices_.clear();
+    pending_indptr_.assign(1, 0);
+    pending_rows_ = 0;
   }
 
   void finish() override {
-    if (!pending_.empty()) throw exactgeo::Error(exactgeo::ErrorCode::internal, "a block was left unfinished");
+    if (!pending_.empty() || pending_rows_ > 0)
+      throw exactgeo::Error(exactgeo::ErrorCode::internal, "a block was left unfinished");
     if (quiet_) return;
     const std::size_t blocks = store_.shape.blocks();
     const std::size_t done = store::done_blocks(store_.path, blocks).size();
@@ -74,53 +100,44 @@ class StoreWriter final : public MatrixWriter {
   }
 
  private:
-  void write_block(std::size_t block, std::size_t end) {
-    const store::BlockRecord record{.block = block,
-                                    .first_row = store_.shape.first(block),
-                                    .end_row = end,
-                                    .max_distance = store_.settings.max_distance,
-                                    .seconds = seconds_since(started_)};
-    const bool float32 = store_.shape.dtype == "float32";
-    if (record.max_distance) {
-      write_sparse(record, float32);
-    } else {
-      // The last block's chunk is padded with the fill value to a whole chunk, as Zarr stores it.
-      const std::size_t chunk_values = store_.shape.block_rows * store_.shape.columns;
-      std::vector<unsigned char> bytes;
-      if (float32) {
-        std::vector<float> chunk(chunk_values, std::numeric_limits<float>::quiet_NaN());
-        std::transform(pending_.begin(), pending_.end(), chunk.begin(), [](double d) { return static_cast<float>(d); });
-        bytes = store::little_endian_bytes(chunk);
-      } else {
-        std::vector<double> chunk(chunk_values, std::numeric_limits<double>::quiet_NaN());
-        std::copy(pending_.begin(), pending_.end(), chunk.begin());
-        bytes = store::little_endian_bytes(chunk);
-      }
-      store::write_dense_block(store_.path, record, bytes, store_.shape.columns * store_.shape.item_bytes());
-    }
+  store::BlockRecord record_of(std::size_t block, std::size_t end) const {
+    return {.block = block,
+            .first_row = store_.shape.first(block),
+            .end_row = end,
+            .max_distance = store_.settings.max_distance,
+            .seconds = seconds_since(started_)};
+  }
+  void block_written() {
     ++computed_;
     started_ = std::chrono::steady_clock::now();
   }
 
-  // The block's finite entries as CSR pieces, row pointers from 0.
-  void write_sparse(const store::BlockRecord& record, bool float32) {
-    const std::size_t columns = store_.shape.columns;
-    std::vector<double> data;
-    std::vector<std::uint32_t> indices;
-    std::vector<std::int64_t> indptr = {0};
-    for (std::size_t row = 0; row < pending_.size() / columns; ++row) {
-      for (std::size_t column = 0; column < columns; ++column) {
-        const double d = pending_[row * columns + column];
-        if (std::isinf(d)) continue;
-        data.push_back(d);
-        indices.push_back(static_cast<std::uint32_t>(column));
-      }
-      indptr.push_back(static_cast<std::int64_t>(data.size()));
+  void write_dense(std::size_t block, std::size_t end) {
+    // The last block's chunk is padded with the fill value to a whole chunk, as Zarr stores it.
+    const std::size_t chunk_values = store_.shape.block_rows * store_.shape.columns;
+    std::vector<unsigned char> bytes;
+    if (store_.shape.dtype == "float32") {
+      std::vector<float> chunk(chunk_values, std::numeric_limits<float>::quiet_NaN());
+      std::transform(pending_.begin(), pending_.end(), chunk.begin(), [](double d) { return static_cast<float>(d); });
+      bytes = store::little_endian_bytes(chunk);
+    } else {
+      std::vector<double> chunk(chunk_values, std::numeric_limits<double>::quiet_NaN());
+      std::copy(pending_.begin(), pending_.end(), chunk.begin());
+      bytes = store::little_endian_bytes(chunk);
     }
+    store::write_dense_block(store_.path, record_of(block, end), bytes,
+                             store_.shape.columns * store_.shape.item_bytes());
+    block_written();
+  }
+
+  void write_sparse(std::size_t block, std::size_t end) {
     const std::vector<unsigned char> data_bytes =
-        float32 ? store::little_endian_bytes(std::vector<float>(data.begin(), data.end()))
-                : store::little_endian_bytes(data);
-    store::write_sparse_block(store_.path, record, store_.shape.dtype, data_bytes, indices, indptr);
+        store_.shape.dtype == "float32"
+            ? store::little_endian_bytes(std::vector<float>(pending_.begin(), pending_.end()))
+            : store::little_endian_bytes(pending_);
+    store::write_sparse_block(store_.path, record_of(block, end), store_.shape.dtype, data_bytes, pending_indices_,
+                              pending_indptr_);
+    block_written();
   }
 
   store::OpenStore store_;
@@ -129,7 +146,11 @@ class StoreWriter final : public MatrixWriter {
   bool verify_;  // the done blocks were read back, and those not matching their marker computed again
   std::vector<std::size_t> todo_;
   std::size_t reused_ = 0, computed_ = 0;
-  std::vector<double> pending_;  // the rows of the block being received
+  // The block being received: its rows (dense), or its entries, their columns, row pointers and rows (sparse).
+  std::vector<double> pending_;
+  std::vector<std::uint32_t> pending_indices_;
+  std::vector<std::int64_t> pending_indptr_ = {0};
+  std::size_t pending_rows_ = 0;
   std::size_t pending_first_ = 0;
   std::chrono::steady_clock::time_point started_;  // of the block being received
 };

@@ -47,10 +47,11 @@ struct SparseDistances {
   std::vector<std::uint32_t> row, column;
   std::vector<double> distance;
 };
-// The same as for_each_distance_block, each block of rows as its finite entries (`rows` of them in the block,
-// row numbers counting from the matrix's first row), for matrices too large to hold dense: with max_distance
-// and no target_vertices a run costs what it reaches, not the mesh's size, on the one-thread vertex-sorted
-// variants. Entries in row-major order, each row's by column.
+// The same as for_each_distance_block, each block of rows as its finite entries: `block` is the sparse matrix
+// of rows [first_row, first_row + block.rows), its row numbers counted from first_row, its entries in
+// row-major order and each row's by column. For cut-off matrices too large to hold dense: with max_distance
+// and no target_vertices, a row costs what its run reaches, not the mesh's size (the one-thread
+// vertex-sorted variants; the others read each run's distances whole).
 EXACTGEO_API void for_each_sparse_block(
     const Mesh& mesh, std::span<const std::uint32_t> source_vertices, const MatrixOptions& options,
     const std::function<void(std::size_t first_row, const SparseDistances& block)>& consume);

@@ -91,7 +91,7 @@ void register_many_sources(nb::module_& m) {
                 column_indices.insert(column_indices.end(), block.column.begin(), block.column.end());
                 // Entries come in row order: each row ends where the next row's entries start.
                 std::size_t k = 0;
-                for (std::size_t r = first; r < first + block.rows; ++r) {
+                for (std::size_t r = 0; r < block.rows; ++r) {
                   while (k < block.row.size() && block.row[k] == r) ++k;
                   row_offsets.push_back(std::int64_t(values.size() - block.row.size() + k));
                 }
