@@ -51,16 +51,6 @@ std::vector<detail::LocatedPoint> locate_all(const detail::SurfaceMesh& surface,
   return located;
 }
 
-// Source `label` at an input vertex: a source at each of its surface copies.
-void add_vertex_sources(std::vector<detail::SourceSite>& sites, std::span<const std::uint32_t> copies,
-                        std::uint32_t label) {
-  for (std::uint32_t s : copies) {
-    detail::LocatedPoint point;
-    point.vertex = s;
-    sites.push_back({point, label});
-  }
-}
-
 }  // namespace
 
 std::string_view algorithm_name(Algorithm algorithm) {
@@ -95,7 +85,7 @@ const GeodesicResult& GeodesicSolver::solve(std::span<const SurfacePoint> source
   for (std::uint32_t i = 0; i < located.size(); ++i) {
     // A point at a corner is that input vertex: a source at each of its copies, as a vertex source is.
     if (located[i].vertex != detail::kNone)
-      add_vertex_sources(sites, surface.copies_with(located[i].vertex), i);
+      detail::add_vertex_sources(sites, surface.copies_with(located[i].vertex), i);
     else
       sites.push_back({located[i], i});
   }
@@ -108,7 +98,7 @@ const GeodesicResult& GeodesicSolver::solve(std::span<const std::uint32_t> sourc
   const detail::SurfaceMesh& surface = mesh_->surface();
   std::vector<detail::SourceSite> sites;
   for (std::uint32_t i = 0; i < source_vertices.size(); ++i)
-    add_vertex_sources(sites, detail::source_vertex_copies(surface, source_vertices[i]), i);
+    detail::add_vertex_sources(sites, detail::source_vertex_copies(surface, source_vertices[i]), i);
   return run(sites, targets, options);
 }
 

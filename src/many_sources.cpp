@@ -189,15 +189,8 @@ void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> sour
   if (options.target_vertices) {  // the targets' columns: from the dense rows, which stop at the targets
     distance_blocks(mesh, source_vertices, options,
                     [&](std::size_t first, std::size_t rows, std::span<const double> dense) {
-                      SparseDistances block;
-                      block.rows = rows;
-                      block.columns = options.target_vertices->size();
-                      for (std::size_t i = 0; i < dense.size(); ++i) {
-                        if (std::isinf(dense[i])) continue;
-                        block.row.push_back(static_cast<std::uint32_t>(i / block.columns));
-                        block.column.push_back(static_cast<std::uint32_t>(i % block.columns));
-                        block.distance.push_back(dense[i]);
-                      }
+                      SparseDistances block = finite_entries(dense, options.target_vertices->size());
+                      block.rows = rows;  // also where there are no columns
                       consume(first, block);
                     });
     return;
@@ -218,8 +211,7 @@ void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> sour
     share_rows(workers, rows, [&](SparseRowWorker& worker, std::size_t r) {
       detail::throw_if_stopped(options.geodesic.stop);
       worker.sites.clear();
-      for (const std::uint32_t copy : detail::source_vertex_copies(surface, source_vertices[first + r]))
-        worker.sites.push_back({detail::LocatedPoint{.vertex = copy}, 0});
+      detail::add_vertex_sources(worker.sites, detail::source_vertex_copies(surface, source_vertices[first + r]), 0);
       worker.engine.run(worker.sites, {}, per_run);
       // The row's entries as the dense row has them: an input vertex's distance is its nearest copy's, so
       // only that copy gives its entries. A run that stopped early lists the few vertices it reached.
@@ -249,6 +241,30 @@ void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> sour
     }
     consume(first, block);
   }
+}
+
+SparseDistances finite_entries(std::span<const double> rows, std::size_t columns) {
+  SparseDistances matrix;
+  matrix.columns = columns;
+  matrix.rows = columns ? rows.size() / columns : 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (std::isinf(rows[i])) continue;
+    matrix.row.push_back(static_cast<std::uint32_t>(i / columns));
+    matrix.column.push_back(static_cast<std::uint32_t>(i % columns));
+    matrix.distance.push_back(rows[i]);
+  }
+  return matrix;
+}
+
+std::vector<std::size_t> row_ends(const SparseDistances& matrix) {
+  std::vector<std::size_t> ends;
+  ends.reserve(matrix.rows);
+  std::size_t k = 0;
+  for (std::size_t r = 0; r < matrix.rows; ++r) {
+    while (k < matrix.row.size() && matrix.row[k] == r) ++k;
+    ends.push_back(k);
+  }
+  return ends;
 }
 
 SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,

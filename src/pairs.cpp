@@ -62,11 +62,7 @@ double search_pair(const Mesh& mesh, detail::VtpEngine& engine, const detail::Lo
   const detail::SurfaceMesh& surface = mesh.surface();
   std::vector<detail::SourceSite> sites;
   if (from.vertex != detail::kNone) {
-    for (const std::uint32_t copy : surface.copies_with(from.vertex)) {
-      detail::LocatedPoint at_copy;
-      at_copy.vertex = copy;
-      sites.push_back({at_copy, 0});
-    }
+    detail::add_vertex_sources(sites, surface.copies_with(from.vertex), 0);
   } else {
     sites.push_back({from, 0});
   }

@@ -47,6 +47,12 @@ struct SourceSite {
   std::uint32_t label;
 };
 
+// Source `label` at an input vertex: a source at each of its surface copies.
+inline void add_vertex_sources(std::vector<SourceSite>& sites, std::span<const std::uint32_t> copies,
+                               std::uint32_t label) {
+  for (const std::uint32_t copy : copies) sites.push_back({LocatedPoint{.vertex = copy}, label});
+}
+
 // Throws Error(invalid_argument) for options no run can use: an algorithm value outside the enum, a
 // max_distance that is negative or NaN. The one check of them, made before any work.
 void check_options(const GeodesicOptions& options);

@@ -194,6 +194,26 @@ TEST(DistanceMatrix, SparseWithACutOffHoldsTheEntriesWithinIt) {
   EXPECT_LT(sparse.distance.size(), dense.size() / 2);
 }
 
+// Dense rows to their finite entries and back to compressed rows' pointers: empty rows, a row of nothing but
+// entries, and a block with no columns.
+TEST(SparseRows, FiniteEntriesAndRowEnds) {
+  const double inf = HUGE_VAL;
+  const std::vector<double> dense = {inf, 1.0, inf, inf, inf, inf, 2.0, 3.0, 4.0, inf, inf, inf};
+  const exactgeo::SparseDistances m = exactgeo::finite_entries(dense, 3);
+  EXPECT_EQ(m.rows, 4u);
+  EXPECT_EQ(m.columns, 3u);
+  EXPECT_EQ(m.row, (std::vector<std::uint32_t>{0, 2, 2, 2}));
+  EXPECT_EQ(m.column, (std::vector<std::uint32_t>{1, 0, 1, 2}));
+  EXPECT_EQ(m.distance, (std::vector<double>{1.0, 2.0, 3.0, 4.0}));
+  EXPECT_EQ(exactgeo::row_ends(m), (std::vector<std::size_t>{1, 1, 4, 4}));
+  const exactgeo::SparseDistances none = exactgeo::finite_entries({}, 0);
+  EXPECT_EQ(none.rows, 0u);
+  EXPECT_TRUE(exactgeo::row_ends(none).empty());
+  exactgeo::SparseDistances empty_rows;
+  empty_rows.rows = 2;
+  EXPECT_EQ(exactgeo::row_ends(empty_rows), (std::vector<std::size_t>{0, 0}));
+}
+
 TEST(DistanceMatrix, InvalidSourcesFailBeforeAnyWork) {
   const Mesh& mesh = torus();
   const std::vector<std::uint32_t> sources = {0, 1, 100000};

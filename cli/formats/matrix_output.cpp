@@ -52,18 +52,14 @@ class CsvMatrixWriter final : public FileMatrixWriter {
     std::fputs(axes.targets.empty() ? "source,vertex,distance\n" : "source,target,distance\n", file_);
   }
   void write_rows(std::size_t first_row, std::span<const double> rows) override {
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      if (!std::isinf(rows[i])) write_entry(first_row + i / columns_, i % columns_, rows[i]);
+    write_sparse_rows(first_row, exactgeo::finite_entries(rows, columns_));
   }
   void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& block) override {
     for (std::size_t k = 0; k < block.distance.size(); ++k)
-      write_entry(first_row + block.row[k], block.column[k], block.distance[k]);
+      std::fprintf(file_, "%zu,%zu,%.17g\n", first_row + block.row[k], std::size_t{block.column[k]}, block.distance[k]);
   }
 
  private:
-  void write_entry(std::size_t row, std::size_t column, double distance) {
-    std::fprintf(file_, "%zu,%zu,%.17g\n", row, column, distance);
-  }
   std::size_t columns_;
 };
 
@@ -77,27 +73,16 @@ class NpzMatrixWriter final : public MatrixWriter {
   NpzMatrixWriter(const std::string& path, const MatrixAxes& axes)
       : output_(path), rows_(axes.sources.size()), columns_(axes.columns),
         sources_(axes.sources.begin(), axes.sources.end()), targets_(axes.targets.begin(), axes.targets.end()) {}
-  void write_rows(std::size_t, std::span<const double> rows) override {
-    std::vector<double> data;
-    std::vector<std::int32_t> indices;
-    for (std::size_t r = 0; r < rows.size() / columns_; ++r) {
-      for (std::size_t v = 0; v < columns_; ++v) {
-        const double d = rows[r * columns_ + v];
-        if (std::isinf(d)) continue;
-        data.push_back(d);
-        indices.push_back(static_cast<std::int32_t>(v));
-      }
-      indptr_.push_back(static_cast<std::int64_t>(entries_ + data.size()));
-    }
-    append(data, indices);
+  void write_rows(std::size_t first_row, std::span<const double> rows) override {
+    write_sparse_rows(first_row, exactgeo::finite_entries(rows, columns_));
   }
   void write_sparse_rows(std::size_t, const exactgeo::SparseDistances& block) override {
-    std::size_t k = 0;
-    for (std::size_t r = 0; r < block.rows; ++r) {
-      while (k < block.row.size() && block.row[k] == r) ++k;
-      indptr_.push_back(static_cast<std::int64_t>(entries_ + k));
-    }
-    append(block.distance, std::vector<std::int32_t>(block.column.begin(), block.column.end()));
+    for (const std::size_t end : exactgeo::row_ends(block))
+      indptr_.push_back(static_cast<std::int64_t>(entries_ + end));
+    const std::vector<std::int32_t> indices(block.column.begin(), block.column.end());
+    entries_ += block.distance.size();
+    data_.append(little_endian_bytes(block.distance), block.distance.size());
+    indices_.append(little_endian_bytes(indices), indices.size());
   }
   void finish() override {
     const std::vector<std::int64_t> shape = {static_cast<std::int64_t>(rows_), static_cast<std::int64_t>(columns_)};
@@ -115,11 +100,6 @@ class NpzMatrixWriter final : public MatrixWriter {
   }
 
  private:
-  void append(const std::vector<double>& data, const std::vector<std::int32_t>& indices) {
-    entries_ += data.size();
-    data_.append(little_endian_bytes(data), data.size());
-    indices_.append(little_endian_bytes(indices), indices.size());
-  }
   OutputFile output_;
   std::size_t rows_, columns_;
   std::vector<std::int64_t> sources_, targets_;

@@ -64,15 +64,10 @@ class StoreWriter final : public MatrixWriter {
   void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& rows) override {
     if (!store_.settings.max_distance) return MatrixWriter::write_sparse_rows(first_row, rows);
     if (pending_rows_ == 0) pending_first_ = first_row;
-    std::size_t k = 0;
-    for (std::size_t r = 0; r < rows.rows; ++r) {
-      while (k < rows.row.size() && rows.row[k] == r) {
-        pending_.push_back(rows.distance[k]);
-        pending_indices_.push_back(rows.column[k]);
-        ++k;
-      }
-      pending_indptr_.push_back(static_cast<std::int64_t>(pending_.size()));
-    }
+    for (const std::size_t end : exactgeo::row_ends(rows))
+      pending_indptr_.push_back(static_cast<std::int64_t>(pending_.size() + end));
+    pending_.insert(pending_.end(), rows.distance.begin(), rows.distance.end());
+    pending_indices_.insert(pending_indices_.end(), rows.column.begin(), rows.column.end());
     pending_rows_ += rows.rows;
     const std::size_t block = pending_first_ / store_.shape.block_rows;
     const std::size_t end = store_.shape.end(block);

@@ -55,6 +55,11 @@ struct SparseDistances {
 EXACTGEO_API void for_each_sparse_block(
     const Mesh& mesh, std::span<const std::uint32_t> source_vertices, const MatrixOptions& options,
     const std::function<void(std::size_t first_row, const SparseDistances& block)>& consume);
+// The finite entries of dense rows (row-major, `columns` values a row), as the sparse matrix of those rows.
+EXACTGEO_API SparseDistances finite_entries(std::span<const double> rows, std::size_t columns);
+// Where each row of `matrix` (its entries in row order) ends among its entries: row r's entries are
+// [ends[r - 1], ends[r]), from 0. Compressed sparse rows' pointers, less the leading 0.
+EXACTGEO_API std::vector<std::size_t> row_ends(const SparseDistances& matrix);
 EXACTGEO_API SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                        const MatrixOptions& options = {});
 

@@ -87,14 +87,10 @@ void register_many_sources(nb::module_& m) {
           exactgeo::for_each_sparse_block(
               mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
               [&](std::size_t first, const exactgeo::SparseDistances& block) {
+                for (const std::size_t end : exactgeo::row_ends(block))
+                  row_offsets.push_back(std::int64_t(values.size() + end));
                 values.insert(values.end(), block.distance.begin(), block.distance.end());
                 column_indices.insert(column_indices.end(), block.column.begin(), block.column.end());
-                // Entries come in row order: each row ends where the next row's entries start.
-                std::size_t k = 0;
-                for (std::size_t r = 0; r < block.rows; ++r) {
-                  while (k < block.row.size() && block.row[k] == r) ++k;
-                  row_offsets.push_back(std::int64_t(values.size() - block.row.size() + k));
-                }
                 counter.done = first + block.rows;
               });
           return true;
