@@ -62,7 +62,7 @@ void ParallelPropagation::run() {
   ParallelState& parallel = *run_;
   GeodesicStats& stats = engine_.stats_;
   // With more threads than cores, a hungry thread holds a core that one with lists could use. (Asked of the
-  // team, which asked hardware_concurrency once: it reads a file.)
+  // team, which compared its threads with the cores as it started.)
   parallel.hungry_spins = pool_.oversubscribed() ? 0 : 1024;
   double band_width = (threads < kManyThreads ? kBandEdgesFewThreads : kBandEdgesManyThreads) * mesh_.mean_edge_length;
   if (!(band_width > 0)) band_width = 1;  // every edge of length 0: every distance is 0

@@ -58,7 +58,7 @@ class Mesh:
             progress, "mesh", 1000, lambda reporter: _core.Mesh(positions, triangles, weld, count, reporter)
         )
         self._weld = weld
-        self._identity = uuid.uuid4().hex
+        self._identity: str | None = None  # made when first pickled (a uuid costs a tenth of a tiny build)
 
     @classmethod
     def load(
@@ -84,7 +84,7 @@ class Mesh:
             progress, "mesh", 1000, lambda reporter: _core.load_mesh(name, weld, count, reporter)
         )
         mesh._weld = weld
-        mesh._identity = uuid.uuid4().hex
+        mesh._identity = None
         return mesh
 
     @classmethod
@@ -136,7 +136,10 @@ class Mesh:
 
     def __reduce__(self) -> tuple[object, tuple[object, ...]]:
         # The input arrays (a file's polygons already fanned into them) rebuild the same mesh; the identity
-        # lets a process that already rebuilt it reuse that copy.
+        # lets a process that already rebuilt it reuse that copy. (Two threads pickling a mesh for the first
+        # time at once may give it two identities: a process receiving both then builds it twice.)
+        if self._identity is None:
+            self._identity = uuid.uuid4().hex
         return (_rebuilt_mesh, (np.array(self.vertices), np.array(self.faces), self._weld, self._identity))
 
     @property

@@ -247,6 +247,7 @@ def test_a_process_unpickling_the_same_mesh_again_builds_it_once():
     data = pickle.dumps(mesh)
     first = pickle.loads(data)
     assert pickle.loads(data) is first  # a task after another on the same worker: no second build
+    assert pickle.loads(pickle.dumps(mesh)) is first  # the original pickled again: the same identity
     assert pickle.loads(pickle.dumps(first)) is first  # passed on from that worker: still the same mesh
     other = pickle.loads(pickle.dumps(exactgeo.Mesh(vertices, faces)))  # equal arrays, another mesh
     assert other is not first and other.report == first.report
