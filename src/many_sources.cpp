@@ -170,6 +170,24 @@ class CarriedVertices {
   std::vector<std::uint32_t> welded_offsets_, welded_;  // per canonical input vertex: the vertices welded into it
 };
 
+// Each input vertex the engine's last run reached, with its distance in the input's frame, as the dense result
+// has them: visit(input vertex, distance). An input vertex's distance is its nearest copy's, so only that copy
+// gives it. A run that stopped early lists the few vertices it reached; otherwise every vertex is looked at.
+template <class Visit>
+void for_each_reached_input(const detail::VtpEngine& engine, const detail::SurfaceMesh& surface,
+                            const CarriedVertices& carried, const Visit& visit) {
+  const std::span<const double> d = engine.distances();
+  const auto visit_copy = [&](std::uint32_t s) {
+    if (!engine.answers(d[s]) || surface.nearest_copy(surface.surface_to_input[s], d) != s) return;
+    for (const std::uint32_t v : carried.of(s)) visit(v, surface.to_input_length(d[s]));
+  };
+  if (const auto reached = engine.reached_vertices()) {
+    for (const std::uint32_t s : *reached) visit_copy(s);
+  } else {
+    for (std::uint32_t s = 0; s < surface.vertex_count; ++s) visit_copy(s);
+  }
+}
+
 struct SparseRowWorker {
   explicit SparseRowWorker(const detail::SurfaceMesh& surface) : engine(surface) {}
   detail::VtpEngine engine;
@@ -213,20 +231,11 @@ void for_each_sparse_block(const Mesh& mesh, std::span<const std::uint32_t> sour
       worker.sites.clear();
       detail::add_vertex_sources(worker.sites, detail::source_vertex_copies(surface, source_vertices[first + r]), 0);
       worker.engine.run(worker.sites, {}, per_run);
-      // The row's entries as the dense row has them: an input vertex's distance is its nearest copy's, so
-      // only that copy gives its entries. A run that stopped early lists the few vertices it reached.
       std::vector<Entry>& entries = rows_entries[r];
       entries.clear();
-      const std::span<const double> d = worker.engine.distances();
-      const auto add = [&](std::uint32_t s) {
-        if (!worker.engine.answers(d[s]) || surface.nearest_copy(surface.surface_to_input[s], d) != s) return;
-        for (const std::uint32_t v : carried.of(s)) entries.push_back({v, surface.to_input_length(d[s])});
-      };
-      if (const auto reached = worker.engine.reached_vertices()) {
-        for (const std::uint32_t s : *reached) add(s);
-      } else {
-        for (std::uint32_t s = 0; s < surface.vertex_count; ++s) add(s);
-      }
+      for_each_reached_input(worker.engine, surface, carried, [&](std::uint32_t v, double distance) {
+        entries.push_back({v, distance});
+      });
       std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.column < b.column; });
     });
     SparseDistances block;
@@ -280,21 +289,93 @@ SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::ui
   return sparse;
 }
 
+namespace {
+
+// A run that reaches fewer input vertices than this is not worth sharing between threads (2 threads break
+// even at about 10,000 faces, recommended_threads): farthest-point sampling runs the next ones on one thread.
+constexpr std::size_t kVerticesWorthThreads = 10000;
+
+// The vertices by their distance to the samples, farthest first (ties to the lowest index, as a scan in
+// vertex order picks), in a heap. A vertex's distance only ever decreases, and each decrease pushes it
+// again: an entry whose distance is no longer the vertex's is dropped when it comes up, or with all the
+// others when such entries outnumber the vertices. So each sample costs what its run reached, not the mesh.
+class FarthestVertices {
+ public:
+  explicit FarthestVertices(std::span<const double> distances) : distances_(distances) { rebuild(); }
+
+  void decreased(std::uint32_t v) {
+    heap_.push_back({distances_[v], v});
+    std::push_heap(heap_.begin(), heap_.end(), nearer);
+    if (heap_.size() > 2 * distances_.size()) rebuild();
+  }
+
+  // The farthest reachable vertex; kNoSource when there is none.
+  std::uint32_t farthest() {
+    while (!heap_.empty() && heap_.front().distance != distances_[heap_.front().vertex]) {
+      std::pop_heap(heap_.begin(), heap_.end(), nearer);
+      heap_.pop_back();
+    }
+    return heap_.empty() ? kNoSource : heap_.front().vertex;
+  }
+
+ private:
+  struct Candidate {
+    double distance;
+    std::uint32_t vertex;
+  };
+  static bool nearer(const Candidate& a, const Candidate& b) {
+    return a.distance < b.distance || (a.distance == b.distance && a.vertex > b.vertex);
+  }
+  void rebuild() {
+    heap_.clear();
+    for (std::uint32_t v = 0; v < distances_.size(); ++v)
+      if (!std::isinf(distances_[v])) heap_.push_back({distances_[v], v});
+    std::make_heap(heap_.begin(), heap_.end(), nearer);
+  }
+
+  std::span<const double> distances_;  // per input vertex, to the nearest sample
+  std::vector<Candidate> heap_;
+};
+
+}  // namespace
+
 Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::span<const std::uint32_t> first_samples,
                                  const GeodesicOptions& options, const std::function<void(std::size_t)>& progress) {
   if (first_samples.empty()) throw Error(ErrorCode::invalid_argument, "no first sample given");
-  for (std::uint32_t v : first_samples) detail::source_vertex_copies(mesh.surface(), v);  // throws if invalid
+  detail::check_options(options);
+  const detail::SurfaceMesh& surface = mesh.surface();
+  for (std::uint32_t v : first_samples) detail::source_vertex_copies(surface, v);  // throws if invalid
   Sampling sampling;
   if (count == 0) return sampling;
-  GeodesicSolver solver(mesh);
+  const CarriedVertices carried(surface);
+  detail::VtpEngine engine(surface);
+  std::vector<detail::SourceSite> sites;
+  GeodesicOptions run_options = options;
+  // A run from `source` cut off at `cutoff`, each input vertex it reached handed to visit(vertex, distance).
+  const auto run_from = [&](std::uint32_t source, double cutoff, const auto& visit) {
+    sites.clear();
+    detail::add_vertex_sources(sites, detail::source_vertex_copies(surface, source), 0);
+    run_options.max_distance = cutoff;
+    engine.run(sites, {}, run_options);
+    std::size_t reached = 0;
+    for_each_reached_input(engine, surface, carried, [&](std::uint32_t v, double distance) {
+      ++reached;
+      visit(v, distance);
+    });
+    // The cut-offs only shrink, and the runs' reach with them.
+    if (reached < kVerticesWorthThreads) run_options.threads = 1;
+  };
+
   sampling.samples.push_back(first_samples[0]);
   sampling.radii.push_back(HUGE_VAL);
-  const GeodesicResult& start = solver.solve(first_samples.first(1), {}, options);
-  sampling.distances = start.distances;
+  sampling.distances.assign(mesh.vertex_count(), HUGE_VAL);
   sampling.nearest_sample.assign(mesh.vertex_count(), kNoSource);
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-    if (!std::isinf(sampling.distances[v])) sampling.nearest_sample[v] = 0;
+  run_from(first_samples[0], options.max_distance, [&](std::uint32_t v, double distance) {
+    sampling.distances[v] = distance;
+    sampling.nearest_sample[v] = 0;
+  });
   if (progress) progress(1);
+  FarthestVertices farthest(sampling.distances);
   while (sampling.samples.size() < count) {
     detail::throw_if_stopped(options.stop);
     // The given first samples in their order, then the farthest vertex from the samples so far; either way,
@@ -303,23 +384,19 @@ Sampling farthest_point_sampling(const Mesh& mesh, std::size_t count, std::span<
     if (sampling.samples.size() < first_samples.size()) {
       next = first_samples[sampling.samples.size()];
     } else {
-      for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
-        if (!std::isinf(sampling.distances[v]) && (next == kNoSource || sampling.distances[v] > sampling.distances[next]))
-          next = v;
+      next = farthest.farthest();
       if (next == kNoSource || sampling.distances[next] == 0) break;  // every reachable vertex is a sample
     }
-    GeodesicOptions cut = options;
-    cut.max_distance = std::min(options.max_distance, sampling.distances[next]);
-    const GeodesicResult& run = solver.solve(std::span(&next, 1), {}, cut);
     const auto index = static_cast<std::uint32_t>(sampling.samples.size());
     sampling.samples.push_back(next);
     sampling.radii.push_back(sampling.distances[next]);
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-      if (run.distances[v] < sampling.distances[v]) {
-        sampling.distances[v] = run.distances[v];
+    run_from(next, std::min(options.max_distance, sampling.distances[next]), [&](std::uint32_t v, double distance) {
+      if (distance < sampling.distances[v]) {
+        sampling.distances[v] = distance;
         sampling.nearest_sample[v] = index;
+        farthest.decreased(v);
       }
-    }
+    });
     if (progress) progress(sampling.samples.size());
   }
   return sampling;

@@ -905,7 +905,8 @@ TEST(Fuzz, PointQueriesOnNearSlivers) {
 // point sources and targets, kept windows now and then) on random meshes of every family above (with
 // junctions, slivers and near-slivers, welded or not), and hold each to a fresh solver's run: bit for bit on
 // one thread, with the same paths; on several, to the threads' promise. Pair searches (one engine through
-// many pairs) and the sparse matrices (rows read from the vertices a run reached) likewise.
+// many pairs), the sparse matrices (rows read from the vertices a run reached) and farthest-point sampling
+// (against a plain scan of every vertex) likewise.
 constexpr std::uint64_t kDefaultReuseCases = 150;
 
 MeshSoup random_reuse_mesh(Random& random, std::string& family) {
@@ -1038,6 +1039,62 @@ void check_sparse_rows(const MeshSoup& soup, const Mesh& mesh, Random& random, F
                  " entries, the dense matrix has " + std::to_string(distance.size()) + " finite ones or others");
 }
 
+// Farthest-point sampling as it reads: the next sample by a scan of every vertex (ties to the lowest index), each
+// run's distances folded in vertex by vertex. The library keeps the farthest in a heap and reads only the
+// vertices a run reached; on one thread the two must agree bit for bit.
+exactgeo::Sampling scanned_sampling(const Mesh& mesh, std::size_t count, std::span<const std::uint32_t> first,
+                                    const GeodesicOptions& options) {
+  exactgeo::Sampling sampling;
+  if (count == 0) return sampling;
+  exactgeo::GeodesicSolver solver(mesh);
+  std::vector<double>& nearest = sampling.distances;
+  nearest.assign(mesh.vertex_count(), HUGE_VAL);
+  sampling.nearest_sample.assign(mesh.vertex_count(), exactgeo::kNoSource);
+  while (sampling.samples.size() < count) {
+    std::uint32_t next = exactgeo::kNoSource;
+    if (sampling.samples.size() < first.size()) {
+      next = first[sampling.samples.size()];
+    } else {
+      for (std::uint32_t v = 0; v < nearest.size(); ++v)
+        if (!std::isinf(nearest[v]) && (next == exactgeo::kNoSource || nearest[v] > nearest[next])) next = v;
+      if (next == exactgeo::kNoSource || nearest[next] == 0) break;
+    }
+    GeodesicOptions cut = options;
+    cut.max_distance = std::min(options.max_distance, nearest[next]);
+    const std::vector<double>& run = solver.solve(std::span(&next, 1), {}, cut).distances;
+    const auto index = static_cast<std::uint32_t>(sampling.samples.size());
+    sampling.samples.push_back(next);
+    sampling.radii.push_back(nearest[next]);
+    for (std::size_t v = 0; v < nearest.size(); ++v) {
+      if (run[v] < nearest[v]) {
+        nearest[v] = run[v];
+        sampling.nearest_sample[v] = index;
+      }
+    }
+  }
+  return sampling;
+}
+
+void check_farthest_point_sampling(const MeshSoup& soup, const Mesh& mesh, Random& random, Failures& failures) {
+  std::vector<std::uint32_t> first(1 + random.below(3));
+  for (std::uint32_t& v : first) v = exactgeo_test::random_source_vertex(soup, random.below(1u << 30));
+  GeodesicOptions options;
+  options.algorithm = random_algorithm(random);
+  if (random.below(3) == 0) {
+    const std::vector<double> d = exactgeo::geodesic_distance(mesh, first[0]).distances;
+    options.max_distance = exactgeo_test::max_finite(d) * std::pow(10.0, random.uniform(-1.5, 0));
+  }
+  // Up to every vertex, so that the sampling also runs until no vertex is left.
+  const std::size_t count = random.below(mesh.vertex_count() + 3);
+  const exactgeo::Sampling sampled = exactgeo::farthest_point_sampling(mesh, count, first, options);
+  const exactgeo::Sampling scanned = scanned_sampling(mesh, count, first, options);
+  if (sampled.samples != scanned.samples || !same_bits(sampled.radii, scanned.radii) ||
+      !same_bits(sampled.distances, scanned.distances) || sampled.nearest_sample != scanned.nearest_sample)
+    failures.add("farthest-point sampling (" + exactgeo_test::variant_label(options) + ", " + std::to_string(count) +
+                 " samples, cut-off " + number(options.max_distance) + "): " + std::to_string(sampled.samples.size()) +
+                 " samples, a plain scan " + std::to_string(scanned.samples.size()) + " or other distances");
+}
+
 bool check_reuse_seed(std::uint64_t seed) {
   Random random(seed);
   std::string family;
@@ -1050,6 +1107,7 @@ bool check_reuse_seed(std::uint64_t seed) {
     check_reused_runs(soup, mesh, random, failures);
     check_reused_pairs(soup, mesh, random, failures);
     check_sparse_rows(soup, mesh, random, failures);
+    check_farthest_point_sampling(soup, mesh, random, failures);
   } catch (const exactgeo::Error& error) {
     failures.add(std::string("exactgeo::Error ") + error.what());
   }
@@ -1057,6 +1115,24 @@ bool check_reuse_seed(std::uint64_t seed) {
 }
 
 TEST(Fuzz, ReusedSolversAgreeWithFreshOnes) { check_seeds("reuse", kDefaultReuseCases, check_reuse_seed); }
+
+// Sampling every vertex of a rough height field decreases vertices' distances many times over, so that the
+// library's heap of the farthest vertices fills with outdated entries and is rebuilt from the distances now and
+// then (in the seeded cases above, one in a few hundred).
+TEST(Fuzz, FarthestPointSamplingOfEveryVertexAgreesWithAPlainScan) {
+  for (const std::uint64_t seed : {5u, 10u, 15u, 16u}) {
+    Random random(seed);
+    const Mesh mesh(exactgeo_test::random_height_field(random, 12, 13, 5.0, false));
+    const std::vector<std::uint32_t> first = {static_cast<std::uint32_t>(random.below(mesh.vertex_count()))};
+    const exactgeo::Sampling sampled = exactgeo::farthest_point_sampling(mesh, mesh.vertex_count(), first);
+    const exactgeo::Sampling scanned = scanned_sampling(mesh, mesh.vertex_count(), first, {});
+    EXPECT_EQ(sampled.samples.size(), mesh.vertex_count()) << seed;
+    EXPECT_EQ(sampled.samples, scanned.samples) << seed;
+    EXPECT_TRUE(same_bits(sampled.radii, scanned.radii)) << seed;
+    EXPECT_TRUE(same_bits(sampled.distances, scanned.distances)) << seed;
+    EXPECT_EQ(sampled.nearest_sample, scanned.nearest_sample) << seed;
+  }
+}
 
 // Found by `make fuzz` (40,000 cases): paths 4e-11 (seed 13198: a 6x7 height field whose ray runs along a row
 // of vertices, on every thread count) and 8e-12 to 2e-10 (seeds 13201, 22094, 25690: triangles over 1,000 times

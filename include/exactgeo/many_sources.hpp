@@ -68,7 +68,8 @@ EXACTGEO_API SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<
 // sample; vertices on other pieces of the mesh are never sampled. `progress`, if given, is called with the
 // number of samples taken so far after each one. Each run
 // after the first is cut off at the current largest distance to the samples, beyond which it cannot change
-// anything, so later samples cost less.
+// anything, so later samples cost less: a sample costs what its run reaches, not the mesh. Runs share
+// `options.threads` until one reaches fewer than 10,000 vertices; the later ones run on one thread.
 struct Sampling {
   std::vector<std::uint32_t> samples;
   std::vector<double> radii;      // per sample: its distance to the samples before it (+inf for the first)

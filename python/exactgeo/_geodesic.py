@@ -40,8 +40,9 @@ class AlgorithmOptions(RunOptions, total=False):
     # 20,000 faces). Every count above 1 gives one thread's distances to within 1e-14 of the largest, the last
     # bits changing from run to run (include/exactgeo/geodesic.hpp, for_each_option_field).
     # The face-sorted algorithms (ftp, opftp) run on one thread; stats.threads says how many a run shared.
-    # farthest_point_sampling's runs share them likewise; distance_matrix's own `threads` argument spreads its
-    # sources over threads instead (RunOptions).
+    # farthest_point_sampling's runs share them likewise, until one reaches fewer than 10,000 vertices (the
+    # later ones run on one thread); distance_matrix's own `threads` argument spreads its sources over threads
+    # instead (RunOptions).
     threads: int
 
 
