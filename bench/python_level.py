@@ -11,6 +11,9 @@ What a numpy user sees, per call, from arrays to distances:
   rebuild on every call: their prepared time is their one-call time (marked †).
 - matrix: distances from 16 sources to every vertex, as a user of each package would get them: exactgeo's
   distance_matrix (every core, and one thread), the others one call per source on a prepared structure.
+- local matrices: every vertex a source, out to 3 and 6 mean edge lengths, as a sparse matrix from the arrays:
+  exactgeo.distance_matrix(Mesh(V, F), every vertex, max_distance=r) (one thread, every core) against
+  gdist.local_gdist_matrix(V, F, max_distance=r), the one peer with such a call.
 
 exactgeo answers single sources on one thread, as the others do (bench/results/threads.md has two threads).
 Every solver gets the same V and F arrays; conversions a peer needs happen inside its timed call, as they
@@ -35,7 +38,15 @@ import numpy as np
 import exactgeo
 from reports.machine import load_text, machine_info
 from reports.python_level import write_markdown
-from solvers.in_process import bench_matrix, bench_mesh, kBatchSeconds, kLibiglMaxFaces, make_peers
+from solvers.in_process import (
+    bench_local_matrix,
+    bench_matrix,
+    bench_mesh,
+    kBatchSeconds,
+    kLibiglMaxFaces,
+    kLocalRadiiEdges,
+    make_peers,
+)
 
 kBenchDir = Path(__file__).resolve().parent
 
@@ -49,6 +60,9 @@ def main() -> None:
         help="meshes of --mesh-dir, after the small grids",
     )
     parser.add_argument("--matrix-mesh", default="spot")
+    parser.add_argument("--local-meshes", nargs="+", default=["spot", "homer", "rocker-arm"],
+                        help="meshes of --mesh-dir for the local matrices")
+    parser.add_argument("--local-repeat", type=int, default=3, help="batches per local matrix time")
     parser.add_argument("--repeat", type=int, default=5, help="batches per time (median reported)")
     parser.add_argument("--quick", action="store_true", help="two small shared meshes, 3 batches: a check, not results")
     parser.add_argument("--mesh-dir", type=Path, default=kBenchDir.parent.parent / "shared" / "meshes")
@@ -57,6 +71,7 @@ def main() -> None:
     args = parser.parse_args()
     if args.quick:
         args.meshes, args.repeat, args.name = ["woody", "spot"], 3, args.name + "-quick"
+        args.local_meshes, args.local_repeat = ["woody"], 2
 
     peers = make_peers()
     load_at_start = load_text(os.getloadavg())
@@ -75,10 +90,17 @@ def main() -> None:
     matrix = bench_matrix(
         args.matrix_mesh, np.array(matrix_mesh.vertices), matrix_mesh.faces.astype(np.int32), peers, args.repeat
     )
+    local_matrices = []
+    for name in args.local_meshes:
+        mesh = exactgeo.Mesh.load(args.mesh_dir / f"{name}.obj")
+        print(f"local matrices: {name}", flush=True)
+        local_matrices.append(
+            bench_local_matrix(name, np.array(mesh.vertices), mesh.faces.astype(np.int32), args.local_repeat))
 
     report = {
         "date": datetime.datetime.now().isoformat(timespec="seconds"),
-        "settings": {"repeat": args.repeat, "batch_seconds": kBatchSeconds, "libigl_max_faces": kLibiglMaxFaces},
+        "settings": {"repeat": args.repeat, "batch_seconds": kBatchSeconds, "libigl_max_faces": kLibiglMaxFaces,
+                     "local_repeat": args.local_repeat, "local_radii_edges": list(kLocalRadiiEdges)},
         "load_average": load_at_start,
         # Another process running meanwhile shows here, not in the load at the start.
         "load_average_at_end": load_text(os.getloadavg()),
@@ -88,6 +110,7 @@ def main() -> None:
         "solvers": [p.name for p in peers],
         "meshes": records,
         "matrix": matrix,
+        "local_matrices": local_matrices,
     }
     args.results_dir.mkdir(parents=True, exist_ok=True)
     json_path = args.results_dir / f"{args.name}.json"

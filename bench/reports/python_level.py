@@ -53,10 +53,9 @@ def write_markdown(path: Path, report: dict) -> None:
     ]
     lines += markdown_table(["solver", "time ÷ exactgeo's"],
                             [[name, format_ratio(seconds, ours)] for name, seconds in matrix["seconds"].items()], "lr")
+    lines += ["", f"exactgeo's own time: {format_seconds(ours)}.", ""]
+    lines += local_matrix_lines(report)
     lines += [
-        "",
-        f"exactgeo's own time: {format_seconds(ours)}.",
-        "",
         "## Agreement with exactgeo",
         "",
         "Largest difference over the vertices both call reachable, relative to the largest distance "
@@ -89,3 +88,43 @@ def write_markdown(path: Path, report: dict) -> None:
     lines.append(f"{machine['cpu_model']}, {machine['logical_cores']} logical cores, Python {report['python']}.")
     lines.append(", ".join(f"{name} {version}" for name, version in report["versions"].items()) + ".")
     path.write_text("\n".join(lines) + "\n")
+
+
+def local_matrix_lines(report: dict) -> list[str]:
+    """The local matrices' section: gdist's time ÷ exactgeo's per mesh and radius, and their agreement."""
+    records = report.get("local_matrices", [])
+    if not records:
+        return []
+    lines = [
+        "## Local matrices: every vertex a source, out to a radius",
+        "",
+        "A sparse matrix of the distances up to `r` between every pair of vertices, from the arrays: "
+        "`exactgeo.distance_matrix(exactgeo.Mesh(V, F), np.arange(n), max_distance=r)` (the mesh built in the "
+        "timed call, as gdist builds its own) against `gdist.local_gdist_matrix(V, F, max_distance=r)`; `r` in "
+        f"mean edge lengths; median of {report['settings']['local_repeat']} batches. The ratios are gdist's time "
+        "÷ exactgeo's (above 1: exactgeo is faster). *Entries*: exactgeo's, the 0 at each source included; "
+        "*only one holds*: entries one matrix holds and the other not (the 0 at each source, which gdist leaves "
+        "out, not counted); *largest difference*: over the entries both hold, relative to `r`.",
+        "",
+    ]
+    rows = []
+    for record in records:
+        for radius in record["radii"]:
+            seconds = radius["seconds"]
+            rows.append([
+                record["mesh"],
+                f"{record['vertices']:,}",
+                f"{radius['edges']:g}",
+                f"{radius['entries']:,}",
+                format_seconds(seconds["exactgeo, 1 thread"]),
+                format_ratio(seconds["gdist"], seconds["exactgeo, 1 thread"]),
+                format_ratio(seconds["gdist"], seconds["exactgeo"]),
+                f"{radius['only_ours']:,} · {radius['only_theirs']:,}",
+                f"{radius['max_difference'] / radius['radius']:.1e}",
+            ])
+    threads = records[0]["threads"]
+    lines += markdown_table(
+        ["mesh", "vertices", "r (edges)", "entries", "exactgeo, 1 thread", "gdist ÷ exactgeo, 1 thread",
+         f"gdist ÷ exactgeo, {threads} threads", "only one holds (exactgeo · gdist)", "largest difference ÷ r"],
+        rows, "lrrrrrrrr")
+    return [*lines, ""]

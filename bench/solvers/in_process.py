@@ -18,6 +18,8 @@ import exactgeo
 
 kBatchSeconds = 0.02
 kMatrixSources = 16
+# Local matrices: every vertex a source, out to these radii in mean edge lengths.
+kLocalRadiiEdges = (3.0, 6.0)
 # libigl's exact_geodesic also traces the path back from every vertex: at 100K faces one call takes over a
 # minute, so it runs on the meshes up to this size only.
 kLibiglMaxFaces = 25_000
@@ -167,3 +169,59 @@ def bench_matrix(name: str, vertices: np.ndarray, faces: np.ndarray, peers: list
         "threads": os.cpu_count(),
         "seconds": times,
     }
+
+
+def mean_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """The mean length of the faces' sides (an edge shared by two faces counted twice)."""
+    sides = vertices[np.roll(faces, -1, axis=1)] - vertices[faces]
+    return float(np.linalg.norm(sides, axis=2).mean())
+
+
+def local_difference(ours, theirs) -> dict:
+    """How gdist's local matrix differs from ours: the largest difference over the entries both hold, and the
+    entries only one holds (the 0 at each source, which gdist leaves out, not counted)."""
+    ours, theirs = ours.tocsr(), theirs.tocsr()
+    ours_pattern, theirs_pattern = ours.copy(), theirs.copy()
+    ours_pattern.data[:] = 1
+    theirs_pattern.data[:] = 1
+    both = ours_pattern.multiply(theirs_pattern)
+    gap = (ours.multiply(both) - theirs.multiply(both)).data
+    return {
+        "common_entries": int(both.nnz),
+        "only_ours": int(ours_pattern.nnz - ours_pattern.diagonal().sum() - both.nnz),
+        "only_theirs": int(theirs_pattern.nnz - both.nnz),
+        "max_difference": float(np.abs(gap).max()) if len(gap) else 0.0,
+    }
+
+
+def bench_local_matrix(name: str, vertices: np.ndarray, faces: np.ndarray, repeat: int) -> dict:
+    """Every vertex a source out to each radius of kLocalRadiiEdges: exactgeo.distance_matrix from the arrays
+    (the mesh built in the call, as gdist builds its own) on one thread and on every core, against
+    gdist.local_gdist_matrix; entries and agreement beside the times."""
+    import gdist
+
+    edge = mean_edge_length(vertices, faces)
+    sources = np.arange(len(vertices), dtype=np.uint32)
+    record: dict = {"mesh": name, "vertices": len(vertices), "faces": len(faces), "mean_edge": edge,
+                    "threads": os.cpu_count(), "radii": []}
+    for edges in kLocalRadiiEdges:
+        radius = edges * edge
+
+        def ours(threads: int | None, radius: float = radius) -> object:
+            return exactgeo.distance_matrix(exactgeo.Mesh(vertices, faces), sources, max_distance=radius,
+                                            threads=threads)
+
+        def theirs(radius: float = radius) -> object:
+            return gdist.local_gdist_matrix(vertices, faces, max_distance=radius)
+
+        times = median_times({"exactgeo, 1 thread": lambda: ours(1), "exactgeo": lambda: ours(None),
+                              "gdist": theirs}, repeat)
+        matrix = ours(1)
+        record["radii"].append({
+            "edges": edges,
+            "radius": radius,
+            "entries": int(matrix.nnz),
+            "seconds": times,
+            **local_difference(matrix, theirs(radius)),
+        })
+    return record
