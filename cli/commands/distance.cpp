@@ -51,8 +51,10 @@ struct Reach {
 // --threads asked for more threads than the run shared (the summary and --stats give those it did): why.
 void note_threads_not_used(const DistanceArguments& arguments, const exactgeo::GeodesicOptions& options,
                            const exactgeo::GeodesicStats& stats) {
+  if (!arguments.threads) return;
+  // Asked only here: the system reads a file for it.
   const unsigned asked = options.threads != 0 ? options.threads : std::thread::hardware_concurrency();
-  if (!arguments.threads || stats.threads >= asked) return;
+  if (stats.threads >= asked) return;
   const bool face_sorted =
       options.algorithm == exactgeo::Algorithm::ftp || options.algorithm == exactgeo::Algorithm::opftp;
   std::fprintf(stderr, "exactgeo: note: the run used %u of the %u threads asked for: %s\n", stats.threads, asked,
