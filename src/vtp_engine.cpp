@@ -38,7 +38,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   state_.tolerances = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale,
                        kReemitTolerance * mesh_.length_scale};
   stats_ = {};
-  state_.cutoff = options_.max_distance;
+  state_.cutoff = answered_up_to_ = options_.max_distance;
   sources_.assign(sources.begin(), sources.end());
   const std::uint32_t n = mesh_.vertex_count;
   const unsigned wanted = face_sorted_ ? 1 : threads_or_cores(options.threads);
@@ -92,6 +92,9 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   for (const std::uint32_t f : state_.targets.faces()) evaluate_targets_from_corners(f);
   targets_changed_ = true;
   update_cutoff();
+  answered_up_to_ = state_.cutoff < options_.max_distance
+                        ? std::min(options_.max_distance, state_.cutoff + state_.tolerances.prune)
+                        : state_.cutoff;
   stats_.window_propagations = stats_.prime_propagations + stats_.secondary_propagations;
   stats_.peak_windows = state_.lists.peak_live();
   stats_.peak_window_bytes = state_.lists.arena_bytes();

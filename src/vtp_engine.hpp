@@ -76,7 +76,7 @@ class VtpEngine {
   double cutoff() const { return state_.cutoff; }
   // Whether the run answers distance d (engine frame): reached, and within the cut-off. Not `d <= cutoff`
   // alone: +inf passes that when there is no cut-off.
-  bool answers(double d) const { return d < HUGE_VAL && d <= state_.cutoff; }
+  bool answers(double d) const { return d < HUGE_VAL && d <= answered_up_to_; }
   std::span<const double> distances() const { return state_.distance; }  // per surface vertex
   std::span<const Arrival> arrivals() const { return state_.arrival; }   // per surface vertex
   // Every surface vertex the last run gave a finite distance (some of them beyond the cut-off), in the order
@@ -179,6 +179,13 @@ class VtpEngine {
   bool reached_complete_ = false;
   static constexpr std::uint32_t kResetAllFromShare = 8;  // a run reaching more than 1/8 of the vertices
 
+  // The largest distance the last run answers: the cut-off, and where the targets lowered it below
+  // max_distance, the farthest target's distance plus the prune tolerance (every path that short was
+  // followed: windows and emissions stop only beyond it). A vertex as far as that target (a copy of its
+  // vertex, its mirror image on a symmetric mesh) may be reached along another way whose rounding puts it a
+  // few ulps farther, and one thread and several round differently: without the tolerance it would be
+  // answered or not by the rounding of the way that reached it.
+  double answered_up_to_ = HUGE_VAL;
   bool targets_changed_ = false;               // since update_cutoff: the farthest target may have changed
   bool goal_directed_ = false;                 // asked for (set_goal_directed)
   std::unique_ptr<FaceWindows> kept_windows_;  // with keep_windows: every list crossing a face, logged

@@ -253,9 +253,10 @@ class EXACTGEO_API GeodesicSolver {
 
   // Propagates from the sources; each input vertex gets the distance to the nearest one. With targets,
   // their distances are computed too and the propagation stops as soon as they are final: vertex distances
-  // are then exact up to the farthest target and +inf beyond. max_distance cuts targets off like vertices
-  // (+inf beyond it; the run stops there); without it every target gets its exact distance, however far
-  // (what gdist and pygeodesic return whatever their max_distance). A source or target at a corner is that
+  // are then exact up to the farthest target and +inf beyond (a vertex as far as that target, to 1e-12 of the
+  // mesh's size, is answered whatever the rounding of the way that reached it). max_distance cuts targets off
+  // like vertices (+inf beyond it; the run stops there); without it every target gets its exact distance,
+  // however far (what gdist and pygeodesic return whatever their max_distance). A source or target at a corner is that
   // input vertex: a source at each of its surface copies, a target with its distance in `distances` (the
   // smallest over the copies). Throws exactgeo::Error(invalid_argument) naming the offending source, target or
   // option.
