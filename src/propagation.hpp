@@ -35,10 +35,15 @@ struct ApexReach {
   double distance;
   std::uint32_t window;  // index into the list
   double separating_point;
+  // Whether every other window reaches C longer by more than the prune tolerance, as Rule 1 needs: where
+  // another comes as close (two unfoldings of one pseudo-source around a sliver, a tie on a symmetric
+  // mesh), which is best is rounding, and Rule 1 would drop rays that carry shortest paths.
+  bool unrivalled;
 };
 // Also fills `splits` with each window's own split point: where the line from its pseudo-source through C
 // meets AB (rays left of it head for AC, rays right of it for BC).
-ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::vector<double>& splits);
+ApexReach reach_apex(std::span<const Window> list, const FaceFrame& frame, std::vector<double>& splits,
+                     double prune_tolerance);
 
 // Distances known at the vertices of the triangle, for checking crossed windows against them.
 struct CornerDistances {

@@ -366,8 +366,8 @@ void VtpEngine::place_new_window(std::uint32_t g, const Window& w) {
 // priority (the distance to the corner opposite g) forward.
 void VtpEngine::queue_face(std::uint32_t g, std::span<const Window> arriving) {
   if (arriving.empty()) return;
-  const double key =
-      state_.goal.key(mesh_, mesh_.apex(g), reach_apex(arriving, face_frame(mesh_, g), key_splits_).distance);
+  const double key = state_.goal.key(
+      mesh_, mesh_.apex(g), reach_apex(arriving, face_frame(mesh_, g), key_splits_, state_.tolerances.prune).distance);
   const PhaseTimer timer(options_.collect_timings, stats_.queue_seconds);
   face_queue_.push_or_decrease(face_of(g), key);
 }
@@ -461,7 +461,7 @@ std::uint64_t VtpEngine::cross_list(std::uint32_t h, std::span<const Window> inc
                                     std::vector<Window>& to_ac, std::vector<Window>& to_bc, ApexReach& reach,
                                     Arrival& at_apex) const {
   const FaceFrame frame = face_frame(mesh_, h);
-  reach = reach_apex(incoming, frame, splits);
+  reach = reach_apex(incoming, frame, splits, state_.tolerances.prune);
   EXACTGEO_ASSERT(reach.window < incoming.size());  // some window reaches C
   const Window& best = incoming[reach.window];
   at_apex = Arrival{best.pseudo_source, h, reach.separating_point, best.px, best.py};

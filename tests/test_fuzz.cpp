@@ -1145,6 +1145,14 @@ TEST(Fuzz, PathsEndingJustBesideTheirPseudoSourceAreNoLongerThanTheirDistance) {
   for (const std::uint64_t seed : {13201u, 22094u, 25690u}) EXPECT_TRUE(check_thin_seed(seed)) << seed;
 }
 
+// Found by `make fuzz` (3,000 cases from seed 777001): seed 778397, a 2x1 height field with five near-slivers
+// scaled by 1e118, where Rule 1 made a pair 3.01e117 long on the default variant against 2.007e117 with it off
+// and on the field without slivers. Two windows of one source, unfolded either side of a sliver, reached the
+// sliver's far corner alike to 1e-21, and the one rounding made best was reached bent at its end: its
+// separating point cut off the other's rays that carried the shortest paths beyond (the same at scale 0.3,
+// not at 1). Rule 1 now stays off where another window reaches the corner within the prune tolerance.
+TEST(Fuzz, RuleOneKeepsTheRaysOfWindowsThatReachTheApexAlike) { EXPECT_TRUE(check_near_sliver_point_seed(778397)); }
+
 // Found by `make fuzz`: on nearly flat height fields of 3 rows, subdivided 1-to-4, a path between a source
 // and a target on the same straight side of the border runs along it, and rounding tipped the traced piece
 // out through the boundary ("path tracing failed: a piece leaves the surface through a boundary edge"):
