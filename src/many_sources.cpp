@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "exactgeo/error.hpp"
+#include "parallel.hpp"
 #include "stop.hpp"
 #include "surface_point.hpp"
 #include "vtp_engine.hpp"
@@ -150,24 +151,20 @@ class CarriedVertices {
  public:
   explicit CarriedVertices(const detail::SurfaceMesh& surface) : surface_(surface) {
     if (surface.canonical_input.empty()) return;
-    const auto inputs = static_cast<std::uint32_t>(surface.canonical_input.size());
-    welded_offsets_.assign(inputs + 1, 0);
-    for (const std::uint32_t c : surface.canonical_input) ++welded_offsets_[c + 1];
-    for (std::uint32_t c = 0; c < inputs; ++c) welded_offsets_[c + 1] += welded_offsets_[c];
-    welded_.resize(inputs);
-    std::vector<std::uint32_t> fill(welded_offsets_.begin(), welded_offsets_.end() - 1);
-    for (std::uint32_t v = 0; v < inputs; ++v) welded_[fill[surface.canonical_input[v]]++] = v;
+    detail::WorkerPool calling_thread(1);
+    welded_ = detail::group_by_keys(detail::ParallelTeam{calling_thread}, surface.canonical_input,
+                                    surface.canonical_input.size());
   }
   std::span<const std::uint32_t> of(std::uint32_t surface_vertex) const {
     const std::uint32_t& input = surface_.surface_to_input[surface_vertex];
-    if (welded_offsets_.empty()) return {&input, 1};
+    if (surface_.canonical_input.empty()) return {&input, 1};
     const std::uint32_t c = surface_.canonical(input);
-    return {welded_.data() + welded_offsets_[c], welded_.data() + welded_offsets_[c + 1]};
+    return {welded_.begin(c), welded_.end(c)};
   }
 
  private:
   const detail::SurfaceMesh& surface_;
-  std::vector<std::uint32_t> welded_offsets_, welded_;  // per canonical input vertex: the vertices welded into it
+  detail::Groups welded_;  // per canonical input vertex: the input vertices welded into it, in order
 };
 
 // Each input vertex the engine's last run reached, with its distance in the input's frame, as the dense result
