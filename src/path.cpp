@@ -286,6 +286,13 @@ class PathBuilder {
     return std::any_of(on_sides.begin(), on_sides.end(), [&](const VertexOnSide& on) { return on.vertex == v; });
   }
 
+  // Whether h's face holds the pseudo-source numbered `id` as Arrival::from counts: a vertex at one of its
+  // corners or on one of its sides, or a source point in it.
+  bool face_holds(std::uint32_t h, std::uint32_t id) const {
+    if (id >= surface_.vertex_count) return source_in_face(id, face_of(h));
+    return id == surface_.tail(h) || id == surface_.head(h) || id == surface_.apex(h) || vertex_on_side(id, face_of(h));
+  }
+
   // The corner of h's face within the snapping distance of p (in h's frame), if any.
   std::uint32_t corner_at(std::uint32_t h, Vec2 p) const {
     const std::array<Vec2, 3> c = corners_in_frame(surface_, h);
@@ -347,7 +354,11 @@ class PathBuilder {
     else if (v == kNone)
       add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
-    if (norm(source - entry) <= eps_) {  // the pseudo-source is where the piece crosses
+    // The pseudo-source where the piece crosses, in a face of the edge crossed. One that near but in neither face
+    // lies across a fold thinner than the snapping distance (a near-sliver folded over that edge, its far layer
+    // holding the pseudo-source): the walk below goes through the fold to it, as the path must.
+    if (norm(source - entry) <= eps_ &&
+        (surface_.twin[h] == kNone || face_holds(h, arrival.from) || face_holds(surface_.twin[h], arrival.from))) {
       if (pseudo_source != kNone) return end_piece_at(pseudo_source);
       add_source_point(arrival.from);
       return kNone;
@@ -367,13 +378,12 @@ class PathBuilder {
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
       if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner);
-      // Inside the face (or on its far edges, up to the snapping distance): a source point in the face, or a
-      // vertex on its side. A distance, not weights with a slack: in a face narrower than the slack, slack on
-      // the weights holds every point near the face's line, far beyond its ends too.
+      // Inside the face (or on its far edges, up to the snapping distance): a pseudo-source the face holds (a
+      // source point in it, a vertex on its side or at a corner rounding put farther away). A distance, not weights
+      // with a slack: in a face narrower than the slack, slack on the weights holds every point near the face's line,
+      // far beyond its ends too.
       if (distance_to_face(surface_, h, source) <= eps_) {
-        if (pseudo_source == kNone ? source_in_face(arrival.from, face_of(h))
-                                   : vertex_on_side(pseudo_source, face_of(h)))
-          return end_at_pseudo_source();
+        if (face_holds(h, arrival.from)) return end_at_pseudo_source();
         // The pseudo-source lies just beyond this face, a vertex not on its sides or a point in another face
         // (across a sliver thinner than the snapping distance, say): the walk goes on into a face that holds
         // it, so that the path does not cut across the sliver.

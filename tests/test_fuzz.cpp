@@ -537,10 +537,11 @@ TEST(Fuzz, ThinTrianglesOnThreadsAgreeWithOneThread) {
 // src/surface_point.cpp). 6,000 seeds pass since. Its paths were held to their distances less the height of the
 // slivers they crossed (a path cut across a sliver thinner than the tracer's snapping distance to its
 // pseudo-source beyond it: seed 1292, 3.9e-11 short), until the tracer walked on into a face holding the
-// pseudo-source (src/path.cpp); since, to rounding. The labels, matrices and located sources, when added, found
-// an unreached target labelled with source 0 (an infinite distance passed the test against an infinite
-// cut-off: junction seed 3, src/geodesic.cpp) and a matrix whose columns named a vertex no face uses throwing
-// "vertex 98 is used by no face" where the full matrix has +inf (seed 13, src/many_sources.cpp).
+// pseudo-source (src/path.cpp), also from where the piece crosses an edge (seed 779333); since, to rounding. The
+// labels, matrices and located sources, when added, found an unreached target labelled with source 0 (an infinite
+// distance passed the test against an infinite cut-off: junction seed 3, src/geodesic.cpp) and a matrix whose columns
+// named a vertex no face uses throwing "vertex 98 is used by no face" where the full matrix has +inf (seed 13,
+// src/many_sources.cpp).
 constexpr std::uint64_t kDefaultPointCases = 60;
 constexpr std::uint64_t kDefaultJunctionPointCases = 200;  // small meshes: about a millisecond each
 constexpr double kQueries = 1e-14;  // what distance_at and pair_distances promise against targets-mode runs
@@ -1152,6 +1153,14 @@ TEST(Fuzz, PathsEndingJustBesideTheirPseudoSourceAreNoLongerThanTheirDistance) {
 // separating point cut off the other's rays that carried the shortest paths beyond (the same at scale 0.3,
 // not at 1). Rule 1 now stays off where another window reaches the corner within the prune tolerance.
 TEST(Fuzz, RuleOneKeepsTheRaysOfWindowsThatReachTheApexAlike) { EXPECT_TRUE(check_near_sliver_point_seed(778397)); }
+
+// Found by `make fuzz` (3,000 cases from seed 777001): seed 779333, a 1x2 height field whose near-sliver of lift
+// 3.2e-11 folds over a side: a pair from a point in the fold's far layer, 4e-12 from the side's line, had its
+// path 3.2e-11 shorter than its distance (which was right). Its pseudo-source lay within the snapping distance of
+// where the piece crossed the side, and the tracer ended the piece there, cutting across the fold from the side
+// to a face the side does not bound. It now ends a piece where it crosses only at a pseudo-source a face of that
+// side holds, and walks on through the fold to any other (src/path.cpp).
+TEST(Fuzz, PathsGoThroughAFoldThinnerThanTheSnappingDistance) { EXPECT_TRUE(check_near_sliver_point_seed(779333)); }
 
 // Found by `make fuzz`: on nearly flat height fields of 3 rows, subdivided 1-to-4, a path between a source
 // and a target on the same straight side of the border runs along it, and rounding tipped the traced piece
