@@ -17,6 +17,8 @@ struct Arrival {
   std::uint32_t from = kNone;
   std::uint32_t halfedge = kNone;
   double crossing = 0, px = 0, py = 0;
+
+  bool operator==(const Arrival&) const = default;
 };
 
 }  // namespace exactgeo::detail

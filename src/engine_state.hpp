@@ -35,6 +35,18 @@ struct EngineState {
   MeshArray<std::uint32_t> source_label;  // the label of the source there, kNone elsewhere
   MeshArray<VertexState> vertex_state;
   MeshArray<std::uint8_t> emit_scheduled;
+  // Each per-vertex array above with the value it holds at a vertex no run has reached: the one list the full
+  // reset, the reset of what a run reached and their check read (VtpEngine::reset_state), so that an array added
+  // here is reset everywhere. `state` is this state or a const one.
+  template <class State, class Visit>
+  static void for_each_vertex_array(State& state, Visit&& visit) {
+    visit(state.distance, HUGE_VAL);
+    visit(state.emitted_at, HUGE_VAL);
+    visit(state.arrival, Arrival{});
+    visit(state.source_label, kNone);
+    visit(state.vertex_state, VertexState::unseen);
+    visit(state.emit_scheduled, std::uint8_t{0});
+  }
   // Per surface face: the iteration in which it joined the traversed area, kNone before.
   MeshArray<std::uint32_t> face_visited_at;
   WindowLists lists;  // per halfedge: the windows entering its face through it
