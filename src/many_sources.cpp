@@ -262,15 +262,19 @@ SparseDistances finite_entries(std::span<const double> rows, std::size_t columns
   return matrix;
 }
 
-std::vector<std::size_t> row_ends(const SparseDistances& matrix) {
-  std::vector<std::size_t> ends;
-  ends.reserve(matrix.rows);
+void append_row_pointers(std::vector<std::int64_t>& indptr, const SparseDistances& block) {
+  const std::int64_t before = indptr.empty() ? 0 : indptr.back();
   std::size_t k = 0;
-  for (std::size_t r = 0; r < matrix.rows; ++r) {
-    while (k < matrix.row.size() && matrix.row[k] == r) ++k;
-    ends.push_back(k);
+  for (std::size_t r = 0; r < block.rows; ++r) {
+    while (k < block.row.size() && block.row[k] == r) ++k;
+    indptr.push_back(before + static_cast<std::int64_t>(k));
   }
-  return ends;
+}
+
+void append_rows(CompressedSparseRows& rows, const SparseDistances& block) {
+  append_row_pointers(rows.indptr, block);
+  rows.data.insert(rows.data.end(), block.distance.begin(), block.distance.end());
+  rows.indices.insert(rows.indices.end(), block.column.begin(), block.column.end());
 }
 
 SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,

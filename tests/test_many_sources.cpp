@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -194,9 +195,9 @@ TEST(DistanceMatrix, SparseWithACutOffHoldsTheEntriesWithinIt) {
   EXPECT_LT(sparse.distance.size(), dense.size() / 2);
 }
 
-// Dense rows to their finite entries and back to compressed rows' pointers: empty rows, a row of nothing but
-// entries, and a block with no columns.
-TEST(SparseRows, FiniteEntriesAndRowEnds) {
+// Dense rows to their finite entries, and blocks of them appended to compressed sparse rows: empty rows, a row of
+// nothing but entries, a block with no rows and a block of empty rows.
+TEST(SparseRows, FiniteEntriesAppendedAsCompressedRows) {
   const double inf = HUGE_VAL;
   const std::vector<double> dense = {inf, 1.0, inf, inf, inf, inf, 2.0, 3.0, 4.0, inf, inf, inf};
   const exactgeo::SparseDistances m = exactgeo::finite_entries(dense, 3);
@@ -205,13 +206,22 @@ TEST(SparseRows, FiniteEntriesAndRowEnds) {
   EXPECT_EQ(m.row, (std::vector<std::uint32_t>{0, 2, 2, 2}));
   EXPECT_EQ(m.column, (std::vector<std::uint32_t>{1, 0, 1, 2}));
   EXPECT_EQ(m.distance, (std::vector<double>{1.0, 2.0, 3.0, 4.0}));
-  EXPECT_EQ(exactgeo::row_ends(m), (std::vector<std::size_t>{1, 1, 4, 4}));
   const exactgeo::SparseDistances none = exactgeo::finite_entries({}, 0);
   EXPECT_EQ(none.rows, 0u);
-  EXPECT_TRUE(exactgeo::row_ends(none).empty());
   exactgeo::SparseDistances empty_rows;
   empty_rows.rows = 2;
-  EXPECT_EQ(exactgeo::row_ends(empty_rows), (std::vector<std::size_t>{0, 0}));
+  const exactgeo::SparseDistances last = exactgeo::finite_entries(std::vector<double>{inf, 5.0, 6.0}, 3);
+
+  const std::array<const exactgeo::SparseDistances*, 4> blocks = {&m, &none, &empty_rows, &last};
+  exactgeo::CompressedSparseRows rows;
+  for (const exactgeo::SparseDistances* block : blocks) exactgeo::append_rows(rows, *block);
+  EXPECT_EQ(rows.indptr, (std::vector<std::int64_t>{0, 1, 1, 4, 4, 4, 4, 6}));
+  EXPECT_EQ(rows.indices, (std::vector<std::uint32_t>{1, 0, 1, 2, 1, 2}));
+  EXPECT_EQ(rows.data, (std::vector<double>{1.0, 2.0, 3.0, 4.0, 5.0, 6.0}));
+  // The pointers alone, as a writer keeping the entries elsewhere appends them.
+  std::vector<std::int64_t> indptr = {0};
+  for (const exactgeo::SparseDistances* block : blocks) exactgeo::append_row_pointers(indptr, *block);
+  EXPECT_EQ(indptr, rows.indptr);
 }
 
 TEST(DistanceMatrix, InvalidSourcesFailBeforeAnyWork) {

@@ -77,10 +77,8 @@ class NpzMatrixWriter final : public MatrixWriter {
     write_sparse_rows(first_row, exactgeo::finite_entries(rows, columns_));
   }
   void write_sparse_rows(std::size_t, const exactgeo::SparseDistances& block) override {
-    for (const std::size_t end : exactgeo::row_ends(block))
-      indptr_.push_back(static_cast<std::int64_t>(entries_ + end));
+    exactgeo::append_row_pointers(indptr_, block);
     const std::vector<std::int32_t> indices(block.column.begin(), block.column.end());
-    entries_ += block.distance.size();
     data_.append(little_endian_bytes(block.distance), block.distance.size());
     indices_.append(little_endian_bytes(indices), indices.size());
   }
@@ -106,7 +104,6 @@ class NpzMatrixWriter final : public MatrixWriter {
   GrowingNpy data_{"<f8"};
   GrowingNpy indices_{"<i4"};
   std::vector<std::int64_t> indptr_ = {0};
-  std::size_t entries_ = 0;  // in the blocks before
 };
 
 std::unique_ptr<MatrixWriter> make_npy(const std::string& path, const MatrixAxes& axes, const StoreRequest&) {

@@ -63,24 +63,17 @@ class StoreWriter final : public MatrixWriter {
   // A sparse store's blocks are CSR pieces, row pointers from 0 in each; a dense store takes the rows whole.
   void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& rows) override {
     if (!store_.settings.max_distance) return MatrixWriter::write_sparse_rows(first_row, rows);
-    if (pending_rows_ == 0) pending_first_ = first_row;
-    for (const std::size_t end : exactgeo::row_ends(rows))
-      pending_indptr_.push_back(static_cast<std::int64_t>(pending_.size() + end));
-    pending_.insert(pending_.end(), rows.distance.begin(), rows.distance.end());
-    pending_indices_.insert(pending_indices_.end(), rows.column.begin(), rows.column.end());
-    pending_rows_ += rows.rows;
+    if (pending_sparse_.indptr.size() == 1) pending_first_ = first_row;
+    exactgeo::append_rows(pending_sparse_, rows);
     const std::size_t block = pending_first_ / store_.shape.block_rows;
     const std::size_t end = store_.shape.end(block);
-    if (pending_first_ + pending_rows_ < end) return;
+    if (pending_first_ + pending_sparse_.indptr.size() - 1 < end) return;
     write_sparse(block, end);
-    pending_.clear();
-    pending_indices_.clear();
-    pending_indptr_.assign(1, 0);
-    pending_rows_ = 0;
+    pending_sparse_ = {};
   }
 
   void finish() override {
-    if (!pending_.empty() || pending_rows_ > 0)
+    if (!pending_.empty() || pending_sparse_.indptr.size() > 1)
       throw exactgeo::Error(exactgeo::ErrorCode::internal, "a block was left unfinished");
     if (quiet_) return;
     const std::size_t blocks = store_.shape.blocks();
@@ -128,10 +121,10 @@ class StoreWriter final : public MatrixWriter {
   void write_sparse(std::size_t block, std::size_t end) {
     const std::vector<unsigned char> data_bytes =
         store_.shape.dtype == "float32"
-            ? store::little_endian_bytes(std::vector<float>(pending_.begin(), pending_.end()))
-            : store::little_endian_bytes(pending_);
-    store::write_sparse_block(store_.path, record_of(block, end), store_.shape.dtype, data_bytes, pending_indices_,
-                              pending_indptr_);
+            ? store::little_endian_bytes(std::vector<float>(pending_sparse_.data.begin(), pending_sparse_.data.end()))
+            : store::little_endian_bytes(pending_sparse_.data);
+    store::write_sparse_block(store_.path, record_of(block, end), store_.shape.dtype, data_bytes,
+                              pending_sparse_.indices, pending_sparse_.indptr);
     block_written();
   }
 
@@ -141,11 +134,9 @@ class StoreWriter final : public MatrixWriter {
   bool verify_;  // the done blocks were read back, and those not matching their marker computed again
   std::vector<std::size_t> todo_;
   std::size_t reused_ = 0, computed_ = 0;
-  // The block being received: its rows (dense), or its entries, their columns, row pointers and rows (sparse).
+  // The block being received, from row pending_first_: its rows (dense), or its compressed sparse rows.
   std::vector<double> pending_;
-  std::vector<std::uint32_t> pending_indices_;
-  std::vector<std::int64_t> pending_indptr_ = {0};
-  std::size_t pending_rows_ = 0;
+  exactgeo::CompressedSparseRows pending_sparse_;
   std::size_t pending_first_ = 0;
   std::chrono::steady_clock::time_point started_;  // of the block being received
 };

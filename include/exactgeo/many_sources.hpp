@@ -57,9 +57,18 @@ EXACTGEO_API void for_each_sparse_block(
     const std::function<void(std::size_t first_row, const SparseDistances& block)>& consume);
 // The finite entries of dense rows (row-major, `columns` values a row), as the sparse matrix of those rows.
 EXACTGEO_API SparseDistances finite_entries(std::span<const double> rows, std::size_t columns);
-// Where each row of `matrix` (its entries in row order) ends among its entries: row r's entries are
-// [ends[r - 1], ends[r]), from 0. Compressed sparse rows' pointers, less the leading 0.
-EXACTGEO_API std::vector<std::size_t> row_ends(const SparseDistances& matrix);
+// Compressed sparse rows, as scipy.sparse.csr_matrix holds them: the entries' distances (data) and columns
+// (indices) row after row, and where each row's entries start (indptr: one more than the rows, from 0).
+struct CompressedSparseRows {
+  std::vector<double> data;
+  std::vector<std::uint32_t> indices;
+  std::vector<std::int64_t> indptr = {0};
+};
+// Appends the rows of `block` (its entries in row order) after those `rows` holds.
+EXACTGEO_API void append_rows(CompressedSparseRows& rows, const SparseDistances& block);
+// Appends to compressed sparse rows' pointers `indptr` where each row of `block` ends, for its entries stored
+// after those before (append_rows's pointers, for a writer that keeps the entries elsewhere).
+EXACTGEO_API void append_row_pointers(std::vector<std::int64_t>& indptr, const SparseDistances& block);
 EXACTGEO_API SparseDistances sparse_distance_matrix(const Mesh& mesh, std::span<const std::uint32_t> source_vertices,
                                        const MatrixOptions& options = {});
 

@@ -78,26 +78,22 @@ void register_many_sources(nb::module_& m) {
                        bool has_targets, exactgeo::GeodesicOptions options, unsigned threads,
                        const nb::object& progress) {
         const std::size_t rows = sources.shape(0);
-        std::vector<double> values;
-        std::vector<std::uint32_t> column_indices;
-        std::vector<std::int64_t> row_offsets = {0};
+        exactgeo::CompressedSparseRows matrix;
         run_interruptibly(progress, [&](std::stop_token stop, ProgressCounter& counter) {
           options.stop = stop;
           counter.total = rows;
-          exactgeo::for_each_sparse_block(
-              mesh, span_of(sources), matrix_options(options, threads, targets, has_targets),
-              [&](std::size_t first, const exactgeo::SparseDistances& block) {
-                for (const std::size_t end : exactgeo::row_ends(block))
-                  row_offsets.push_back(std::int64_t(values.size() + end));
-                values.insert(values.end(), block.distance.begin(), block.distance.end());
-                column_indices.insert(column_indices.end(), block.column.begin(), block.column.end());
-                counter.done = first + block.rows;
-              });
+          exactgeo::for_each_sparse_block(mesh, span_of(sources),
+                                          matrix_options(options, threads, targets, has_targets),
+                                          [&](std::size_t first, const exactgeo::SparseDistances& block) {
+                                            exactgeo::append_rows(matrix, block);
+                                            counter.done = first + block.rows;
+                                          });
           return true;
         });
-        const std::size_t entries = values.size();
-        return std::make_tuple(to_numpy(std::move(values), {entries}), to_numpy(std::move(column_indices), {entries}),
-                               to_numpy(std::move(row_offsets), {rows + 1}));
+        const std::size_t entries = matrix.data.size();
+        return std::make_tuple(to_numpy(std::move(matrix.data), {entries}),
+                               to_numpy(std::move(matrix.indices), {entries}),
+                               to_numpy(std::move(matrix.indptr), {rows + 1}));
       },
       "mesh"_a, "sources"_a.noconvert(), "targets"_a.noconvert(), "has_targets"_a, "options"_a, "threads"_a,
       "progress"_a.none());
