@@ -28,8 +28,9 @@ using Vec3 = std::array<double, 3>;
 class Random {
  public:
   explicit Random(std::uint64_t seed) : engine_(seed) {}
-  // Uniform in [lo, hi).
-  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(engine_() >> 11) * 0x1p-53; }
+  // Uniform in [lo, hi). The fraction is formed first: (hi - lo) times the 53-bit integer would overflow for
+  // ranges above about 1e292 (the bounding boxes of meshes scaled by 1e300).
+  double uniform(double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(engine_() >> 11) * 0x1p-53); }
   // Uniform in [0, n); the modulo bias is irrelevant for test sizes.
   std::uint32_t below(std::size_t n) { return static_cast<std::uint32_t>(engine_() % n); }
 
