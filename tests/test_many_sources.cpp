@@ -215,6 +215,7 @@ TEST(SparseRows, FiniteEntriesAppendedAsCompressedRows) {
   const std::array<const exactgeo::SparseDistances*, 4> blocks = {&m, &none, &empty_rows, &last};
   exactgeo::CompressedSparseRows rows;
   for (const exactgeo::SparseDistances* block : blocks) exactgeo::append_rows(rows, *block);
+  EXPECT_EQ(rows.rows(), 7u);
   EXPECT_EQ(rows.indptr, (std::vector<std::int64_t>{0, 1, 1, 4, 4, 4, 4, 6}));
   EXPECT_EQ(rows.indices, (std::vector<std::uint32_t>{1, 0, 1, 2, 1, 2}));
   EXPECT_EQ(rows.data, (std::vector<double>{1.0, 2.0, 3.0, 4.0, 5.0, 6.0}));

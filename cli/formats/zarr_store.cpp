@@ -63,17 +63,17 @@ class StoreWriter final : public MatrixWriter {
   // A sparse store's blocks are CSR pieces, row pointers from 0 in each; a dense store takes the rows whole.
   void write_sparse_rows(std::size_t first_row, const exactgeo::SparseDistances& rows) override {
     if (!store_.settings.max_distance) return MatrixWriter::write_sparse_rows(first_row, rows);
-    if (pending_sparse_.indptr.size() == 1) pending_first_ = first_row;
+    if (pending_sparse_.rows() == 0) pending_first_ = first_row;
     exactgeo::append_rows(pending_sparse_, rows);
     const std::size_t block = pending_first_ / store_.shape.block_rows;
     const std::size_t end = store_.shape.end(block);
-    if (pending_first_ + pending_sparse_.indptr.size() - 1 < end) return;
+    if (pending_first_ + pending_sparse_.rows() < end) return;
     write_sparse(block, end);
     pending_sparse_ = {};
   }
 
   void finish() override {
-    if (!pending_.empty() || pending_sparse_.indptr.size() > 1)
+    if (!pending_.empty() || pending_sparse_.rows() > 0)
       throw exactgeo::Error(exactgeo::ErrorCode::internal, "a block was left unfinished");
     if (quiet_) return;
     const std::size_t blocks = store_.shape.blocks();

@@ -63,6 +63,8 @@ struct CompressedSparseRows {
   std::vector<double> data;
   std::vector<std::uint32_t> indices;
   std::vector<std::int64_t> indptr = {0};
+
+  std::size_t rows() const { return indptr.size() - 1; }
 };
 // Appends the rows of `block` (its entries in row order) after those `rows` holds.
 EXACTGEO_API void append_rows(CompressedSparseRows& rows, const SparseDistances& block);
