@@ -161,7 +161,6 @@ bool held(std::uint64_t seed, const std::string& family, const Failures& failure
   return false;
 }
 
-// Every check of one case under one variant.
 // A power of ten from -300 to 300 to scale a case by. Drawn from -200 to 200, the range the cases were first
 // written with, so that the seeds this file names keep their meshes (none beyond 190); the ten powers at
 // either end stand for 201 to 300, in steps of 11.
@@ -171,6 +170,7 @@ int random_scale_exponent(Random& random) {
   return (drawn > 0 ? 1 : -1) * (190 + (std::abs(drawn) - 190) * 11);
 }
 
+// Every check of one case under one variant.
 void check_case(const FuzzCase& c, const GeodesicOptions& options, Random& random, Failures& failures) {
   const MeshSoup& soup = c.soup;
   const Mesh mesh(soup);
