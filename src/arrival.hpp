@@ -2,6 +2,7 @@
 // paths can be traced back afterwards (path.cpp).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "surface_mesh.hpp"
@@ -20,5 +21,14 @@ struct Arrival {
 
   bool operator==(const Arrival&) const = default;
 };
+
+// Whether the arrival at v = apex(a.halfedge) comes straight from a pseudo-source (not across an edge)
+// nearer to v than `near`.
+inline bool arrives_straight_from_within(const SurfaceMesh& mesh, const Arrival& a, double near) {
+  if (a.halfedge == kNone || !std::isnan(a.crossing)) return false;
+  const HalfedgeGeometry& g = mesh.halfedges[a.halfedge];
+  const double dx = g.apex_x - a.px, dy = g.apex_y - a.py;
+  return dx * dx + dy * dy < near * near;
+}
 
 }  // namespace exactgeo::detail

@@ -35,6 +35,9 @@ struct EngineState {
   MeshArray<std::uint32_t> source_label;  // the label of the source there, kNone elsewhere
   MeshArray<VertexState> vertex_state;
   MeshArray<std::uint8_t> emit_scheduled;
+  // Whether a pseudo-source reached the vertex straight from nearer than tolerances.beside (arrival.hpp): it then
+  // bends paths, in every direction (tolerances.hpp, kBesidePseudoSource).
+  MeshArray<std::uint8_t> beside_pseudo_source;
   // Each per-vertex array above with the value it holds at a vertex no run has reached: the one list the full
   // reset, the reset of what a run reached and their check read (VtpEngine::reset_state), so that an array added
   // here is reset everywhere. `state` is this state or a const one.
@@ -46,12 +49,15 @@ struct EngineState {
     visit(state.source_label, kNone);
     visit(state.vertex_state, VertexState::unseen);
     visit(state.emit_scheduled, std::uint8_t{0});
+    visit(state.beside_pseudo_source, std::uint8_t{0});
   }
   // Per surface face: the iteration in which it joined the traversed area, kNone before.
   MeshArray<std::uint32_t> face_visited_at;
   WindowLists lists;  // per halfedge: the windows entering its face through it
 
-  bool bends_paths(std::uint32_t v) const { return mesh.is_pseudo_source[v] || source_label[v] != kNone; }
+  bool bends_paths(std::uint32_t v) const {
+    return mesh.is_pseudo_source[v] || source_label[v] != kNone || beside_pseudo_source[v];
+  }
   // Whether distance d of v, inside the traversed area, is enough below the one it emitted at to emit again.
   bool lowered_since_emission(std::uint32_t v, double d) const { return d < emitted_at[v] - tolerances.reemit; }
 
@@ -129,6 +135,7 @@ struct EngineState {
     if (targets.at_vertex(v) && distance[v] >= cutoff) targets_changed = true;
     std::atomic_ref<double>(distance[v]).store(d, std::memory_order_relaxed);
     arrival[v] = reached_by;
+    if (arrives_straight_from_within(mesh, reached_by, tolerances.beside)) beside_pseudo_source[v] = 1;
     if (vertex_state[v] != VertexState::inside) {
       vertex_state[v] = VertexState::queued;
       queue();

@@ -316,17 +316,19 @@ void ParallelPropagation::relax_concurrently(std::uint32_t v, double d, const Ar
 void ParallelPropagation::emit_concurrently(std::uint32_t v, unsigned thread) {
   double d;
   Arrival arrival;
+  bool everywhere;
   {
     const SpinGuard guard(run_->vertex_locks[v]);
     state_.emit_scheduled[v] = 0;
     d = state_.distance[v];
     arrival = state_.arrival[v];
+    everywhere = state_.beside_pseudo_source[v];
     if (!state_.lowered_since_emission(v, d) || state_.emission_beyond_cutoff(v, d)) return;
     state_.emitted_at[v] = d;
   }
   ++run_->scratch[thread].stats.pseudo_source_emissions;
   for_each_emission_part(
-      mesh_, v, d, arrival, state_.tolerances.min_width,
+      mesh_, v, d, arrival, everywhere, state_.tolerances.min_width,
       [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
       [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });
 }

@@ -302,14 +302,26 @@ class PathBuilder {
     return kNone;
   }
 
+  // Whether the source point numbered `id` lies within a few snapping distances of vertex v, where the rounding of
+  // unfolded positions leaves it hard to tell from v.
+  bool source_point_beside(std::uint32_t id, std::uint32_t v) const {
+    const LocatedPoint& source = source_point(id);
+    const std::array<double, 3> p =
+        face_point_position(surface_, source.face, source.barycentric, PositionFrame::engine);
+    const std::array<double, 3> q = surface_.position(surface_.surface_to_input[v]);
+    return std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) <= kPathPieceTolerance * surface_.length_scale;
+  }
+
   // The end of a piece at vertex v. The edge points just before it on edges at v, a few snapping distances from
   // v or less, go: they come from rounding in the pseudo-source's unfolded position, which lies beside v by up to
   // about 1e-10 of the mesh's size after many faces (an offset across the ray, which changes the distance by its
   // square only), and tips the ray across an edge at v just short of it. Such a point is a kink that made the
   // path longer than its distance by up to its offset (4e-11 on a height field whose ray ran along a row of
   // vertices, tests/test_fuzz.cpp). Without it the path goes straight on to v, inside the face that holds both
-  // the point before and v (it has the dropped point's edge, which is at v).
-  std::uint32_t end_piece_at(std::uint32_t v) {
+  // the point before and v (it has the dropped point's edge, which is at v). A piece whose pseudo-source (numbered
+  // `from` as Arrival::from counts) is a source point within a few snapping distances of v ends at that point
+  // instead: through v the path would be longer by up to twice their distance.
+  std::uint32_t end_piece_at(std::uint32_t v, std::uint32_t from) {
     const double near = kPathPieceTolerance * surface_.length_scale;
     while (!piece_edge_points_.empty()) {
       const auto [e, x] = piece_edge_points_.back();
@@ -320,6 +332,10 @@ class PathBuilder {
       piece_edge_points_.pop_back();
       path_.points.pop_back();
       path_.locations.pop_back();
+    }
+    if (from >= surface_.vertex_count && source_point_beside(from, v)) {
+      add_source_point(from);
+      return kNone;
     }
     return v;
   }
@@ -350,7 +366,7 @@ class PathBuilder {
     if (std::isnan(arrival.crossing))
       return end_at_pseudo_source();  // straight from a corner, a vertex on a side, or a source point
     if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))
-      return v;
+      return end_piece_at(v, arrival.from);
     else if (v == kNone)
       add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
@@ -359,7 +375,7 @@ class PathBuilder {
     // holding the pseudo-source): the walk below goes through the fold to it, as the path must.
     if (norm(source - entry) <= eps_ &&
         (surface_.twin[h] == kNone || face_holds(h, arrival.from) || face_holds(surface_.twin[h], arrival.from))) {
-      if (pseudo_source != kNone) return end_piece_at(pseudo_source);
+      if (pseudo_source != kNone) return end_piece_at(pseudo_source, arrival.from);
       add_source_point(arrival.from);
       return kNone;
     }
@@ -370,6 +386,12 @@ class PathBuilder {
       std::size_t step, points, edge_points;
     };
     std::optional<NearSource> near_since;
+    const auto straight_from = [&](const NearSource& near) {
+      path_.points.resize(near.points);
+      path_.locations.resize(near.points);
+      piece_edge_points_.resize(near.edge_points);
+      return end_at_pseudo_source();
+    };
     constexpr std::size_t kNearFaces = 8;
     for (std::size_t step = 0; step < limit; ++step) {
       if (surface_.twin[h] == kNone) fail("a piece leaves the surface through a boundary edge");
@@ -377,7 +399,7 @@ class PathBuilder {
       entry = to_twin(surface_, h, entry);
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
-      if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner);
+      if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner, arrival.from);
       // Inside the face (or on its far edges, up to the snapping distance): a pseudo-source the face holds (a
       // source point in it, a vertex on its side or at a corner rounding put farther away). A distance, not weights
       // with a slack: in a face narrower than the slack, slack on the weights holds every point near the face's line,
@@ -389,14 +411,8 @@ class PathBuilder {
         // it, so that the path does not cut across the sliver.
         if (!near_since) near_since = NearSource{step, path_.points.size(), piece_edge_points_.size()};
       }
-      if (near_since && step - near_since->step >= kNearFaces) {
-        // No face holding it within a few faces more: the piece goes straight to it from where it first
-        // came that near.
-        path_.points.resize(near_since->points);
-        path_.locations.resize(near_since->points);
-        piece_edge_points_.resize(near_since->edge_points);
-        return end_at_pseudo_source();
-      }
+      // No face holding it within a few faces more: the piece goes straight to it from where it first came that near.
+      if (near_since && step - near_since->step >= kNearFaces) return straight_from(*near_since);
       // Leave through the side from the tail to the apex if the source lies left of entry -> apex, else through
       // the side from the head to the apex.
       const bool via_tail_side = cross(c[2] - entry, source - entry) > 0;
@@ -409,13 +425,19 @@ class PathBuilder {
       // A shortest path cannot leave the surface: a piece that seems to cross a boundary side runs along it
       // (a ray grazing the border, tipped out by rounding), through the side's end in the direction it goes,
       // which is the first vertex it runs through.
-      if (surface_.twin[side] == kNone) return end_piece_at(s.x >= e.x ? surface_.head(side) : surface_.tail(side));
+      // After the walk came within the snapping distance of the pseudo-source, though, it is the walk that went past
+      // it, around a vertex on the wrong side of a fold thinner than that (the fold's layers unfolded over each other):
+      // the piece goes straight to it from where it first came that near.
+      if (surface_.twin[side] == kNone) {
+        if (near_since) return straight_from(*near_since);
+        return end_piece_at(s.x >= e.x ? surface_.head(side) : surface_.tail(side), arrival.from);
+      }
       // Where the segment e -> s meets the side's line (y = 0).
       const double along = s.y != e.y ? e.x + (s.x - e.x) * (e.y / (e.y - s.y)) : e.x;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);
       // At a vertex to pass (which a ray grazing it leaves this face at), on across the side, around the vertex.
       if (const std::uint32_t v = vertex_at(side, x); ends_at(v))
-        return end_piece_at(v);
+        return end_piece_at(v, arrival.from);
       else if (v == kNone)
         add_edge_point(side, x);
       entry = {x, 0};

@@ -27,6 +27,7 @@ struct Tolerances {
   double prune;      // absolute: a window is pruned only if beaten by more than this
   double min_width;  // absolute: narrower windows are dropped
   double reemit;     // absolute: a pseudo-source inside emits again when its distance drops by more than this
+  double beside;     // absolute: a vertex reached straight from a pseudo-source nearer than this emits everywhere
 };
 
 // How a list reaches C (paper Section 4.1): the shortest distance to C through any of its windows, the

@@ -120,14 +120,14 @@ void for_each_ray_from_point(const SurfaceMesh& mesh, const LocatedPoint& in_fac
 
 // The parts of pseudo-source v's emission at distance d, reached as `arrival` says, in order: offer(u,
 // distance, arrival) for each neighbour u, place(g, window) for each window wider than min_width across the
-// edges opposite v, within its shadow cone. Reads only the mesh.
+// edges opposite v, within its shadow cone, or `everywhere`. Reads only the mesh.
 // Where an opposite side runs through v (a face of no area: the sliver that closes a T-junction, v at the
 // junction), v is a point of that side, and its rays run on into the faces beyond, as a source point's do:
 // those placements of v emit everything (v's fan angles are not reliable there anyway).
 template <class Offer, class Place>
-void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, const Arrival& arrival,
+void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, const Arrival& arrival, bool everywhere,
                             double min_width, Offer&& offer, Place&& place) {
-  const ShadowCone cone = shadow_cone(mesh, v, arrival);
+  const ShadowCone cone = everywhere ? ShadowCone::everything() : shadow_cone(mesh, v, arrival);
   LocatedPoint on_a_side;  // v as a corner of a face whose opposite side holds it, if any
   for (std::uint32_t i = mesh.vertex_corner_offsets[v]; i < mesh.vertex_corner_offsets[v + 1]; ++i) {
     const std::uint32_t c = mesh.vertex_corners[i];  // halfedge leaving v

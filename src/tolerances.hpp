@@ -24,6 +24,14 @@ inline constexpr double kShadowConeSlack = 1e-13;
 inline constexpr double kPruneTolerance = 1e-12;
 // a window narrower than this is dropped (the edge points it covers are within this of its neighbours');
 inline constexpr double kMinWindowWidth = 1e-13;
+// a vertex reached straight from a pseudo-source nearer than this emits in every direction. The pseudo-source's
+// place in a face's frame carries rounding of about 1e-16 of the mesh's size; seen from a vertex that near, the
+// ray through the vertex points off by up to 1e-16 of the size over the nearness (1e-4 rad at 1e-12), and the
+// windows either side of that ray miss a wedge that wide beyond the vertex, which nothing else reaches where
+// the vertex is not a pseudo-source (a source point 1e-12 of an edge from a grid's border vertex made the
+// distances beyond it 2.5e-8 too long). The paths through the vertex cover the wedge, longer than the straight
+// ones by less than the nearness times the wedge's angle squared: 1e-22 of the size here at most;
+inline constexpr double kBesidePseudoSource = 1e-6;
 // a pseudo-source re-emits windows only when its distance drops by more than this. Far below
 // kPruneTolerance: the windows it sent carry its old distance as they are, so a drop left unsent is an error
 // of the distances beyond it. One thread moves a vertex inside once its distance is final and rarely

@@ -36,7 +36,7 @@ void VtpEngine::run(std::span<const SourceSite> sources, std::span<const Located
   face_sorted_ = sorts_faces(options.algorithm);
   order_preserving_ = options.algorithm == Algorithm::opvtp || options.algorithm == Algorithm::opftp;
   state_.tolerances = {kPruneTolerance * mesh_.length_scale, kMinWindowWidth * mesh_.length_scale,
-                       kReemitTolerance * mesh_.length_scale};
+                       kReemitTolerance * mesh_.length_scale, kBesidePseudoSource * mesh_.length_scale};
   stats_ = {};
   state_.cutoff = answered_up_to_ = options_.max_distance;
   sources_.assign(sources.begin(), sources.end());
@@ -368,7 +368,7 @@ void VtpEngine::emit(std::uint32_t v) {
   state_.emitted_at[v] = state_.distance[v];
   ++stats_.pseudo_source_emissions;
   for_each_emission_part(
-      mesh_, v, state_.distance[v], state_.arrival[v], state_.tolerances.min_width,
+      mesh_, v, state_.distance[v], state_.arrival[v], state_.beside_pseudo_source[v], state_.tolerances.min_width,
       [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
       [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
 }

@@ -20,7 +20,7 @@ using exactgeo::detail::prune_list;
 using exactgeo::detail::Tolerances;
 using exactgeo::detail::Window;
 
-constexpr Tolerances kTolerances{1e-12, 1e-12, 1e-15};
+constexpr Tolerances kTolerances{1e-12, 1e-12, 1e-15, 1e-6};
 
 Window window(double b0, double b1, double px, double py, double sigma, std::uint32_t source) {
   return {b0, b1, px, py, sigma, source};
