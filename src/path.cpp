@@ -422,18 +422,19 @@ class PathBuilder {
       if (!(surface_.halfedges[side].length > 0)) side = via_tail_side ? next_halfedge(h) : prev_halfedge(h);
       const Vec2 s = to_sibling_frame(surface_, h, side, source);
       const Vec2 e = to_sibling_frame(surface_, h, side, entry);
+      // Where the line e -> s meets the side's line (y = 0), as a fraction of the way from e to s.
+      const double reach = s.y != e.y ? e.y / (e.y - s.y) : 0.0;
+      // After the walk came within the snapping distance of the pseudo-source, a side met beyond it means that the walk
+      // went past it, around a vertex on the wrong side of a fold thinner than that (the fold's layers unfolded over
+      // each other): the piece goes straight to it from where it first came that near, not on to the border or to a
+      // vertex beyond.
+      if (near_since && reach > 1) return straight_from(*near_since);
       // A shortest path cannot leave the surface: a piece that seems to cross a boundary side runs along it
       // (a ray grazing the border, tipped out by rounding), through the side's end in the direction it goes,
       // which is the first vertex it runs through.
-      // After the walk came within the snapping distance of the pseudo-source, though, it is the walk that went past
-      // it, around a vertex on the wrong side of a fold thinner than that (the fold's layers unfolded over each other):
-      // the piece goes straight to it from where it first came that near.
-      if (surface_.twin[side] == kNone) {
-        if (near_since) return straight_from(*near_since);
+      if (surface_.twin[side] == kNone)
         return end_piece_at(s.x >= e.x ? surface_.head(side) : surface_.tail(side), arrival.from);
-      }
-      // Where the segment e -> s meets the side's line (y = 0).
-      const double along = s.y != e.y ? e.x + (s.x - e.x) * (e.y / (e.y - s.y)) : e.x;
+      const double along = e.x + (s.x - e.x) * reach;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);
       // At a vertex to pass (which a ray grazing it leaves this face at), on across the side, around the vertex.
       if (const std::uint32_t v = vertex_at(side, x); ends_at(v))
