@@ -55,8 +55,11 @@ struct EngineState {
   MeshArray<std::uint32_t> face_visited_at;
   WindowLists lists;  // per halfedge: the windows entering its face through it
 
+  // The flag is read atomically: on threads, another may be setting it (under v's lock, in lower).
   bool bends_paths(std::uint32_t v) const {
-    return mesh.is_pseudo_source[v] || source_label[v] != kNone || beside_pseudo_source[v];
+    return mesh.is_pseudo_source[v] || source_label[v] != kNone ||
+           std::atomic_ref<std::uint8_t>(const_cast<std::uint8_t&>(beside_pseudo_source[v]))
+               .load(std::memory_order_relaxed);
   }
   // Whether distance d of v, inside the traversed area, is enough below the one it emitted at to emit again.
   bool lowered_since_emission(std::uint32_t v, double d) const { return d < emitted_at[v] - tolerances.reemit; }
@@ -135,7 +138,8 @@ struct EngineState {
     if (targets.at_vertex(v) && distance[v] >= cutoff) targets_changed = true;
     std::atomic_ref<double>(distance[v]).store(d, std::memory_order_relaxed);
     arrival[v] = reached_by;
-    if (arrives_straight_from_within(mesh, reached_by, tolerances.beside)) beside_pseudo_source[v] = 1;
+    if (arrives_straight_from_within(mesh, reached_by, tolerances.beside))
+      std::atomic_ref<std::uint8_t>(beside_pseudo_source[v]).store(1, std::memory_order_relaxed);
     if (vertex_state[v] != VertexState::inside) {
       vertex_state[v] = VertexState::queued;
       queue();
