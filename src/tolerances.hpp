@@ -30,7 +30,8 @@ inline constexpr double kMinWindowWidth = 1e-13;
 // windows either side of that ray miss a wedge that wide beyond the vertex, which nothing else reaches where
 // the vertex is not a pseudo-source (a source point 1e-12 of an edge from a grid's border vertex made the
 // distances beyond it 2.5e-8 too long). The paths through the vertex cover the wedge, longer than the straight
-// ones by less than the nearness times the wedge's angle squared: 1e-22 of the size here at most;
+// ones by less than the nearness times the wedge's angle squared: 1e-20 of the size at a nearness of 1e-12,
+// less farther out;
 inline constexpr double kBesidePseudoSource = 1e-6;
 // a pseudo-source re-emits windows only when its distance drops by more than this. Far below
 // kPruneTolerance: the windows it sent carry its old distance as they are, so a drop left unsent is an error
