@@ -35,9 +35,10 @@ struct EngineState {
   MeshArray<std::uint32_t> source_label;  // the label of the source there, kNone elsewhere
   MeshArray<VertexState> vertex_state;
   MeshArray<std::uint8_t> emit_scheduled;
-  // Whether a pseudo-source reached the vertex straight from nearer than tolerances.beside (arrival.hpp): it then
-  // bends paths, in every direction (tolerances.hpp, kBesidePseudoSource).
-  MeshArray<std::uint8_t> beside_pseudo_source;
+  // Whether the vertex bends paths in every direction: a pseudo-source reached it straight from nearer than
+  // tolerances.beside (arrival.hpp; tolerances.hpp, kBesidePseudoSource), or the rays of a point graze a side's line
+  // past it (shadow_cone.hpp, for_each_ray_from_point).
+  MeshArray<std::uint8_t> emits_everywhere;
   // Each per-vertex array above with the value it holds at a vertex no run has reached: the one list the full
   // reset, the reset of what a run reached and their check read (VtpEngine::reset_state), so that an array added
   // here is reset everywhere. `state` is this state or a const one.
@@ -49,17 +50,27 @@ struct EngineState {
     visit(state.source_label, kNone);
     visit(state.vertex_state, VertexState::unseen);
     visit(state.emit_scheduled, std::uint8_t{0});
-    visit(state.beside_pseudo_source, std::uint8_t{0});
+    visit(state.emits_everywhere, std::uint8_t{0});
   }
   // Per surface face: the iteration in which it joined the traversed area, kNone before.
   MeshArray<std::uint32_t> face_visited_at;
   WindowLists lists;  // per halfedge: the windows entering its face through it
 
-  // The flag is read atomically: on threads, another may be setting it (under v's lock, in lower).
+  // The flag is read atomically: on threads, another may be setting it (under v's lock, in lower or emit_everywhere).
   bool bends_paths(std::uint32_t v) const {
     return mesh.is_pseudo_source[v] || source_label[v] != kNone ||
-           std::atomic_ref<std::uint8_t>(const_cast<std::uint8_t&>(beside_pseudo_source[v]))
+           std::atomic_ref<std::uint8_t>(const_cast<std::uint8_t&>(emits_everywhere[v]))
                .load(std::memory_order_relaxed);
+  }
+  // v emits everywhere from now on (under v's lock, on threads). Returns whether it must emit now: it is inside the
+  // traversed area with a distance, where it has emitted (in its shadow cone) or, bending no paths, would not.
+  bool emit_everywhere(std::uint32_t v) {
+    if (emits_everywhere[v]) return false;
+    std::atomic_ref<std::uint8_t>(emits_everywhere[v]).store(1, std::memory_order_relaxed);
+    if (vertex_state[v] != VertexState::inside || !(distance[v] < HUGE_VAL) || emit_scheduled[v]) return false;
+    emitted_at[v] = HUGE_VAL;
+    emit_scheduled[v] = 1;
+    return true;
   }
   // Whether distance d of v, inside the traversed area, is enough below the one it emitted at to emit again.
   bool lowered_since_emission(std::uint32_t v, double d) const { return d < emitted_at[v] - tolerances.reemit; }
@@ -139,7 +150,7 @@ struct EngineState {
     std::atomic_ref<double>(distance[v]).store(d, std::memory_order_relaxed);
     arrival[v] = reached_by;
     if (arrives_straight_from_within(mesh, reached_by, tolerances.beside))
-      std::atomic_ref<std::uint8_t>(beside_pseudo_source[v]).store(1, std::memory_order_relaxed);
+      std::atomic_ref<std::uint8_t>(emits_everywhere[v]).store(1, std::memory_order_relaxed);
     if (vertex_state[v] != VertexState::inside) {
       vertex_state[v] = VertexState::queued;
       queue();

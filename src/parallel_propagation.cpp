@@ -322,7 +322,7 @@ void ParallelPropagation::emit_concurrently(std::uint32_t v, unsigned thread) {
     state_.emit_scheduled[v] = 0;
     d = state_.distance[v];
     arrival = state_.arrival[v];
-    everywhere = state_.beside_pseudo_source[v];
+    everywhere = state_.emits_everywhere[v];
     if (!state_.lowered_since_emission(v, d) || state_.emission_beyond_cutoff(v, d)) return;
     state_.emitted_at[v] = d;
   }
@@ -330,7 +330,11 @@ void ParallelPropagation::emit_concurrently(std::uint32_t v, unsigned thread) {
   for_each_emission_part(
       mesh_, v, d, arrival, everywhere, state_.tolerances.min_width,
       [&](std::uint32_t u, double du, const Arrival& a) { relax_concurrently(u, du, a, thread); },
-      [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); });
+      [&](std::uint32_t g, const Window& w) { place_concurrently(g, w, thread); },
+      [&](std::uint32_t u) {
+        const SpinGuard guard(run_->vertex_locks[u]);
+        if (state_.emit_everywhere(u)) run_->scratch[thread].to_emit.push_back(u);
+      });
 }
 
 // VtpEngine::place_new_window, with other threads running.

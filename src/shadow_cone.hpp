@@ -105,15 +105,23 @@ inline ShadowCone shadow_cone(const SurfaceMesh& mesh, std::uint32_t v, const Ar
 // on one of the face's sides), numbered `id` as Arrival::from counts: offer(u, distance, arrival) for each
 // corner u, place(g, window) for a window across each side the point does not lie on (from a side's line it
 // would be seen under a zero angle: those rays run into the face beyond as another placement of the point).
-template <class Offer, class Place>
+// A point within min_width of a side's line but beyond one of its ends (a stack of near-slivers) is no
+// placement beyond the side and sends it no window either: the rays that cross the side graze its line past
+// that end, u, within min_width of it, and graze(u) has u emit everywhere in their stead (the paths through u
+// are longer by about min_width squared over their length).
+template <class Offer, class Place, class Graze>
 void for_each_ray_from_point(const SurfaceMesh& mesh, const LocatedPoint& in_face, std::uint32_t id, double d,
-                             double min_width, Offer&& offer, Place&& place) {
+                             double min_width, Offer&& offer, Place&& place, Graze&& graze) {
   for (std::uint32_t h = 3 * in_face.face; h < 3 * in_face.face + 3; ++h) {
     const auto [x, y] = position_in_frame(mesh, in_face, h);
     const HalfedgeGeometry& g = mesh.halfedges[h];
     offer(mesh.apex(h), d + length(g.apex_x - x, g.apex_y - y), Arrival{id, h, std::nan(""), x, y});
     const std::uint32_t across = mesh.twin[h];
-    if (across == kNone || !(y > min_width) || !(g.length > min_width)) continue;
+    if (across == kNone || !(g.length > min_width)) continue;
+    if (!(y > min_width)) {
+      if (!lies_on_side(mesh, in_face, h)) graze(x < 0 ? mesh.tail(h) : mesh.head(h));
+      continue;
+    }
     place(across, to_twin_frame(Window{0, g.length, x, -y, d, id}, g.length, mesh.tail(across) != mesh.tail(h)));
   }
 }
@@ -123,10 +131,11 @@ void for_each_ray_from_point(const SurfaceMesh& mesh, const LocatedPoint& in_fac
 // edges opposite v, within its shadow cone, or `everywhere`. Reads only the mesh.
 // Where an opposite side runs through v (a face of no area: the sliver that closes a T-junction, v at the
 // junction), v is a point of that side, and its rays run on into the faces beyond, as a source point's do:
-// those placements of v emit everything (v's fan angles are not reliable there anyway).
-template <class Offer, class Place>
+// those placements of v emit everything (v's fan angles are not reliable there anyway), and graze(u) as
+// for_each_ray_from_point says.
+template <class Offer, class Place, class Graze>
 void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, const Arrival& arrival, bool everywhere,
-                            double min_width, Offer&& offer, Place&& place) {
+                            double min_width, Offer&& offer, Place&& place, Graze&& graze) {
   const ShadowCone cone = everywhere ? ShadowCone::everything() : shadow_cone(mesh, v, arrival);
   LocatedPoint on_a_side;  // v as a corner of a face whose opposite side holds it, if any
   for (std::uint32_t i = mesh.vertex_corner_offsets[v]; i < mesh.vertex_corner_offsets[v + 1]; ++i) {
@@ -145,7 +154,7 @@ void for_each_emission_part(const SurfaceMesh& mesh, std::uint32_t v, double d, 
   if (on_a_side.face == kNone) return;
   for_each_placement(mesh, on_a_side, [&](const LocatedPoint& in_face) {
     if (!mesh.has_corner(in_face.face, v))  // the faces of v's fan are done above
-      for_each_ray_from_point(mesh, in_face, v, d, min_width, offer, place);
+      for_each_ray_from_point(mesh, in_face, v, d, min_width, offer, place, graze);
   });
 }
 

@@ -298,7 +298,8 @@ void VtpEngine::start_point_source(std::uint32_t site) {
     for_each_ray_from_point(
         mesh_, in_face, id, 0.0, state_.tolerances.min_width,
         [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
-        [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
+        [&](std::uint32_t g, const Window& w) { place_new_window(g, w); },
+        [&](std::uint32_t u) { emit_everywhere(u); });
     // Targets in the same face are reached straight.
     if (!state_.targets.in_faces()) return;
     for (const RunTargets::InFace& in : state_.targets.in_face(f))
@@ -368,9 +369,14 @@ void VtpEngine::emit(std::uint32_t v) {
   state_.emitted_at[v] = state_.distance[v];
   ++stats_.pseudo_source_emissions;
   for_each_emission_part(
-      mesh_, v, state_.distance[v], state_.arrival[v], state_.beside_pseudo_source[v], state_.tolerances.min_width,
+      mesh_, v, state_.distance[v], state_.arrival[v], state_.emits_everywhere[v], state_.tolerances.min_width,
       [&](std::uint32_t u, double d, const Arrival& arrival) { relax(u, d, arrival); },
-      [&](std::uint32_t g, const Window& w) { place_new_window(g, w); });
+      [&](std::uint32_t g, const Window& w) { place_new_window(g, w); }, [&](std::uint32_t u) { emit_everywhere(u); });
+}
+
+// Rays that no window carries pass beside u (for_each_ray_from_point): u emits everywhere, now if it is inside.
+void VtpEngine::emit_everywhere(std::uint32_t u) {
+  if (state_.emit_everywhere(u)) emit_queue_.push_back(u);
 }
 
 void VtpEngine::drain() {

@@ -127,6 +127,7 @@ class VtpEngine {
   void queue_face(std::uint32_t g, std::span<const Window> arriving);
   void schedule(std::uint32_t h);
   void emit(std::uint32_t v);
+  void emit_everywhere(std::uint32_t u);
   void emit_lowered_pseudo_source();
   void drain();
   void cross(std::uint32_t h);

@@ -1261,6 +1261,14 @@ TEST(Fuzz, PathsGoStraightToAPseudoSourceTheWalkWentPast) {
     EXPECT_TRUE(check_near_sliver_point_seed(seed)) << seed;
 }
 
+// Found by `make fuzz` (200,000 cases from seed 2000001): seed 2051867, a 1x1 height field whose border carries a
+// stack of 4 near-slivers (lift -4.5e-12). The source point, on a side of the stack, lay 1.3e-13 (under the narrowest
+// window) from the line of another side of its face, beyond that side's end: no window crossed that side and the
+// face beyond was no placement of the point, so the rays grazing the side reached nothing, and a vertex of the
+// stack past the side's end was never reached (inf for 0.0247). The side's end now emits everywhere in their stead
+// (src/shadow_cone.hpp, for_each_ray_from_point).
+TEST(Fuzz, RaysGrazingASideBeyondItsEndReachTheFacesPastIt) { EXPECT_TRUE(check_near_sliver_point_seed(2051867)); }
+
 // Found by `make fuzz`: on nearly flat height fields of 3 rows, subdivided 1-to-4, a path between a source
 // and a target on the same straight side of the border runs along it, and rounding tipped the traced piece
 // out through the boundary ("path tracing failed: a piece leaves the surface through a boundary edge"):
