@@ -285,9 +285,13 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
     }
     // A piece leaving through a boundary side counts as propagated, but there is nothing to compute: its
     // rays leave the surface.
+    // A piece that ends at the split point ends at C on its side: computed, the ray through the split point
+    // could meet the side short of C where the pseudo-source lies a hair from AB's line (a near-sliver's
+    // corner), by rounding over that height (1e-5 of the side at 6e-13), and the rays between reached nothing.
     if (left_end - w.b0 > tol.min_width) {
       ++propagations;
       Window out = cross_to_side(w, w.px, w.b0, left_end, cos_a, sin_a, f.length_ac, tol.min_width);
+      if (left_end == splits[i]) out.b1 = f.length_ac;
       if (ac_exit.open && check_with_vertices(out, f.length_ac, corners.a, corners.c, tol))
         to_ac.push_back(to_twin_frame(out, f.length_ac, ac_exit.reversed));
     }
@@ -296,6 +300,7 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
       // Mirror x -> length - x so that B is the origin; the piece's ends swap.
       Window out = cross_to_side(w, f.length - w.px, f.length - w.b1, f.length - right_start, cos_b, sin_b,
                                  f.length_bc, tol.min_width);
+      if (right_start == splits[i]) out.b1 = f.length_bc;
       if (bc_exit.open && check_with_vertices(out, f.length_bc, corners.b, corners.c, tol))
         to_bc.push_back(to_twin_frame(out, f.length_bc, bc_exit.reversed));
     }

@@ -48,11 +48,15 @@ class ShadowCone {
     for (int i = 0; i < count_; ++i) {
       for (int wrap = -1; wrap <= 1; ++wrap) {
         if (wrap != 0 && period_ == 0) continue;
-        const double a0 = std::max(intervals_[i][0] + wrap * period_, start);
-        const double a1 = std::min(intervals_[i][1] + wrap * period_, start + corner_angle);
+        // Clamped to the corner from it, not as fan angles: a cone that holds the whole corner then gives its
+        // ends exactly, where (start + corner_angle) - start could miss by an ulp of the fan angle, which the
+        // thin corner of a near-sliver at the opposite edge's end magnifies to 1e-4 of the edge (a wedge that
+        // the windows of a source on the sliver missed).
+        const double a0 = std::max(intervals_[i][0] + wrap * period_ - start, 0.0);
+        const double a1 = std::min(intervals_[i][1] + wrap * period_ - start, corner_angle);
         if (a1 < a0) continue;
-        lowest = std::min(lowest, a0 - start);
-        highest = std::max(highest, a1 - start);
+        lowest = std::min(lowest, a0);
+        highest = std::max(highest, a1);
       }
     }
     if (lowest > highest) return {0.0, 0.0};

@@ -1269,6 +1269,16 @@ TEST(Fuzz, PathsGoStraightToAPseudoSourceTheWalkWentPast) {
 // (src/shadow_cone.hpp, for_each_ray_from_point).
 TEST(Fuzz, RaysGrazingASideBeyondItsEndReachTheFacesPastIt) { EXPECT_TRUE(check_near_sliver_point_seed(2051867)); }
 
+// Found by `make fuzz` (200,000 cases from seed 2000001): seed 2029194, a 7x3 height field with 5 near-slivers (lift
+// 4.3e-12). The source vertex lies a hair (6e-13) off the long side of its near-sliver, and its window across that
+// side, crossing the face beyond, met the next side 1e-5 of its length short of the apex: the ray through the split
+// point, computed, does not quite run through the apex, and the rays between reached nothing; the distance to a
+// point past the apex came round it, 3.5e-7 too long. The pieces either side of the split point now meet at the
+// apex (src/propagation.cpp, cross_face; tests/test_crossing.cpp).
+TEST(Fuzz, WindowsFromAHairBelowTheirEdgeCoverTheSidesUpToTheApex) {
+  EXPECT_TRUE(check_near_sliver_point_seed(2029194));
+}
+
 // Found by `make fuzz`: on nearly flat height fields of 3 rows, subdivided 1-to-4, a path between a source
 // and a target on the same straight side of the border runs along it, and rounding tipped the traced piece
 // out through the boundary ("path tracing failed: a piece leaves the surface through a boundary edge"):
