@@ -312,16 +312,21 @@ class PathBuilder {
     return std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) <= kPathPieceTolerance * surface_.length_scale;
   }
 
-  // The end of a piece at vertex v. The edge points just before it on edges at v, a few snapping distances from
-  // v or less, go: they come from rounding in the pseudo-source's unfolded position, which lies beside v by up to
-  // about 1e-10 of the mesh's size after many faces (an offset across the ray, which changes the distance by its
-  // square only), and tips the ray across an edge at v just short of it. Such a point is a kink that made the
-  // path longer than its distance by up to its offset (4e-11 on a height field whose ray ran along a row of
-  // vertices, tests/test_fuzz.cpp). Without it the path goes straight on to v, inside the face that holds both
-  // the point before and v (it has the dropped point's edge, which is at v). A piece whose pseudo-source (numbered
-  // `from` as Arrival::from counts) is a source point within a few snapping distances of v ends at that point
-  // instead: through v the path would be longer by up to twice their distance.
-  std::uint32_t end_piece_at(std::uint32_t v, std::uint32_t from) {
+  // The end of a piece at vertex v, come to in `face` (which holds the piece's last point). A piece whose
+  // pseudo-source (numbered `from` as Arrival::from counts) is a source point beside v (passes_beside) held by
+  // `face` ends at that point instead, the edge points near v that the walk past v added kept: through v the path
+  // would be longer by up to twice their distance. Otherwise the edge points just before v on edges at v, a few
+  // snapping distances from v or less, go: they come from rounding in the pseudo-source's unfolded position, which
+  // lies beside v by up to about 1e-10 of the mesh's size after many faces (an offset across the ray, which changes
+  // the distance by its square only), and tips the ray across an edge at v just short of it. Such a point is a kink
+  // that made the path longer than its distance by up to its offset (4e-11 on a height field whose ray ran along a
+  // row of vertices, tests/test_fuzz.cpp). Without it the path goes straight on to v, inside the face that holds
+  // both the point before and v (it has the dropped point's edge, which is at v).
+  std::uint32_t end_piece_at(std::uint32_t v, std::uint32_t from, std::uint32_t face) {
+    if (passes_beside(from, v) && source_in_face(from, face)) {
+      add_source_point(from);
+      return kNone;
+    }
     const double near = kPathPieceTolerance * surface_.length_scale;
     while (!piece_edge_points_.empty()) {
       const auto [e, x] = piece_edge_points_.back();
@@ -333,11 +338,16 @@ class PathBuilder {
       path_.points.pop_back();
       path_.locations.pop_back();
     }
-    if (from >= surface_.vertex_count && source_point_beside(from, v)) {
-      add_source_point(from);
-      return kNone;
-    }
     return v;
+  }
+
+  // Whether a piece heading for pseudo-source `from` (numbered as Arrival::from counts) at vertex v goes on past v:
+  // `from` is a source point beside v (source_point_beside), which the ray reaches past v, within a few snapping
+  // distances of it. Snapped to v, the path would bend there: longer than the distance by up to twice their
+  // distance where v is the bend, and where the line to the point was then drawn straight from before v, it cut
+  // across the faces at v, shorter than the distance (by 3.6e-10 at a nearness of 5.8e-10, tests/test_fuzz.cpp).
+  bool passes_beside(std::uint32_t from, std::uint32_t v) const {
+    return v != kNone && from >= surface_.vertex_count && source_point_beside(from, v);
   }
 
   // One straight piece: from the point the arrival reaches back towards the arrival's pseudo-source, adding
@@ -365,8 +375,13 @@ class PathBuilder {
     Vec2 source = {arrival.px, arrival.py};
     if (std::isnan(arrival.crossing))
       return end_at_pseudo_source();  // straight from a corner, a vertex on a side, or a source point
-    if (const std::uint32_t v = vertex_at(h, arrival.crossing); ends_at(v))
-      return end_piece_at(v, arrival.from);
+    // The vertex a crossing at x of edge e snaps to, unless the piece goes on past it.
+    const auto snapped = [&](std::uint32_t e, double x) {
+      const std::uint32_t v = vertex_at(e, x);
+      return passes_beside(arrival.from, v) ? kNone : v;
+    };
+    if (const std::uint32_t v = snapped(h, arrival.crossing); ends_at(v))
+      return end_piece_at(v, arrival.from, face_of(h));
     else if (v == kNone)
       add_edge_point(h, arrival.crossing);
     Vec2 entry = {arrival.crossing, 0};
@@ -375,7 +390,7 @@ class PathBuilder {
     // holding the pseudo-source): the walk below goes through the fold to it, as the path must.
     if (norm(source - entry) <= eps_ &&
         (surface_.twin[h] == kNone || face_holds(h, arrival.from) || face_holds(surface_.twin[h], arrival.from))) {
-      if (pseudo_source != kNone) return end_piece_at(pseudo_source, arrival.from);
+      if (pseudo_source != kNone) return end_piece_at(pseudo_source, arrival.from, face_of(h));
       add_source_point(arrival.from);
       return kNone;
     }
@@ -399,7 +414,10 @@ class PathBuilder {
       entry = to_twin(surface_, h, entry);
       h = surface_.twin[h];
       const std::array<Vec2, 3> c = corners_in_frame(surface_, h);  // entry lies on c[0] c[1]
-      if (const std::uint32_t corner = corner_at(h, source); corner != kNone) return end_piece_at(corner, arrival.from);
+      // At a corner, unless the pseudo-source is a point beside it in another face (the walk goes on to it).
+      if (const std::uint32_t corner = corner_at(h, source);
+          corner != kNone && (!passes_beside(arrival.from, corner) || source_in_face(arrival.from, face_of(h))))
+        return end_piece_at(corner, arrival.from, face_of(h));
       // Inside the face (or on its far edges, up to the snapping distance): a pseudo-source the face holds (a
       // source point in it, a vertex on its side or at a corner rounding put farther away). A distance, not weights
       // with a slack: in a face narrower than the slack, slack on the weights holds every point near the face's line,
@@ -433,12 +451,12 @@ class PathBuilder {
       // (a ray grazing the border, tipped out by rounding), through the side's end in the direction it goes,
       // which is the first vertex it runs through.
       if (surface_.twin[side] == kNone)
-        return end_piece_at(s.x >= e.x ? surface_.head(side) : surface_.tail(side), arrival.from);
+        return end_piece_at(s.x >= e.x ? surface_.head(side) : surface_.tail(side), arrival.from, face_of(h));
       const double along = e.x + (s.x - e.x) * reach;
       const double x = std::clamp(along, 0.0, surface_.halfedges[side].length);
       // At a vertex to pass (which a ray grazing it leaves this face at), on across the side, around the vertex.
-      if (const std::uint32_t v = vertex_at(side, x); ends_at(v))
-        return end_piece_at(v, arrival.from);
+      if (const std::uint32_t v = snapped(side, x); ends_at(v))
+        return end_piece_at(v, arrival.from, face_of(h));
       else if (v == kNone)
         add_edge_point(side, x);
       entry = {x, 0};
