@@ -284,10 +284,10 @@ std::uint64_t cross_face(std::span<const Window> list, std::span<const double> s
       right_start = std::max(right_start, reach.separating_point);
     }
     // A piece leaving through a boundary side counts as propagated, but there is nothing to compute: its
-    // rays leave the surface.
-    // A piece that ends at the split point ends at C on its side: computed, the ray through the split point
-    // could meet the side short of C where the pseudo-source lies a hair from AB's line (a near-sliver's
-    // corner), by rounding over that height (1e-5 of the side at 6e-13), and the rays between reached nothing.
+    // rays leave the surface. A piece that ends at the split point ends at C on its side: computed, the ray
+    // through the split point could meet the side short of C where the pseudo-source lies a hair from AB's
+    // line (a near-sliver's corner), by rounding over that height (1e-5 of the side at 6e-13), and the rays
+    // between would reach nothing.
     if (left_end - w.b0 > tol.min_width) {
       ++propagations;
       Window out = cross_to_side(w, w.px, w.b0, left_end, cos_a, sin_a, f.length_ac, tol.min_width);
