@@ -936,13 +936,13 @@ constexpr std::uint64_t kDefaultBesideCases = 200;
 MeshSoup with_vertex_at(const MeshSoup& soup, std::uint32_t f, std::optional<std::array<int, 2>> edge,
                         const std::array<double, 3>& position) {
   MeshSoup split = soup;
-  const auto added = static_cast<std::uint32_t>(soup.positions.size() / 3);
-  split.positions.insert(split.positions.end(), position.begin(), position.end());
+  const std::uint32_t added = exactgeo_test::add_vertex(split, position);
   if (!edge) {
     const std::array<std::uint32_t, 3> c = {soup.triangles[3 * f], soup.triangles[3 * f + 1],
                                             soup.triangles[3 * f + 2]};
     split.triangles[3 * f + 2] = added;
-    split.triangles.insert(split.triangles.end(), {c[1], c[2], added, c[2], c[0], added});
+    exactgeo_test::add_triangle(split, c[1], c[2], added);
+    exactgeo_test::add_triangle(split, c[2], c[0], added);
     return split;
   }
   const std::uint32_t a = soup.triangles[3 * f + (*edge)[0]], b = soup.triangles[3 * f + (*edge)[1]];
@@ -950,9 +950,8 @@ MeshSoup with_vertex_at(const MeshSoup& soup, std::uint32_t f, std::optional<std
     for (int c = 0; c < 3; ++c) {
       const std::uint32_t from = soup.triangles[3 * face + c], to = soup.triangles[3 * face + (c + 1) % 3];
       if (!((from == a && to == b) || (from == b && to == a))) continue;
-      const std::uint32_t apex = soup.triangles[3 * face + (c + 2) % 3];
-      std::copy_n(std::array<std::uint32_t, 3>{from, added, apex}.begin(), 3, split.triangles.begin() + 3 * face);
-      split.triangles.insert(split.triangles.end(), {added, to, apex});
+      split.triangles[3 * face + (c + 1) % 3] = added;  // from, added, apex
+      exactgeo_test::add_triangle(split, added, to, soup.triangles[3 * face + (c + 2) % 3]);
       break;
     }
   return split;
