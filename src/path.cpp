@@ -302,16 +302,6 @@ class PathBuilder {
     return kNone;
   }
 
-  // Whether the source point numbered `id` lies within a few snapping distances of vertex v, where the rounding of
-  // unfolded positions leaves it hard to tell from v.
-  bool source_point_beside(std::uint32_t id, std::uint32_t v) const {
-    const LocatedPoint& source = source_point(id);
-    const std::array<double, 3> p =
-        face_point_position(surface_, source.face, source.barycentric, PositionFrame::engine);
-    const std::array<double, 3> q = surface_.position(surface_.surface_to_input[v]);
-    return std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) <= kPathPieceTolerance * surface_.length_scale;
-  }
-
   // The end of a piece at vertex v, come to in `face` (which holds the piece's last point). A piece whose
   // pseudo-source (numbered `from` as Arrival::from counts) is a source point beside v (passes_beside) held by
   // `face` ends at that point instead, the edge points near v that the walk past v added kept: through v the path
@@ -342,12 +332,18 @@ class PathBuilder {
   }
 
   // Whether a piece heading for pseudo-source `from` (numbered as Arrival::from counts) at vertex v goes on past v:
-  // `from` is a source point beside v (source_point_beside), which the ray reaches past v, within a few snapping
-  // distances of it. Snapped to v, the path would bend there: longer than the distance by up to twice their
-  // distance where v is the bend, and where the line to the point was then drawn straight from before v, it cut
-  // across the faces at v, shorter than the distance (by 3.6e-10 at a nearness of 5.8e-10, tests/test_fuzz.cpp).
+  // `from` is a source point within a few snapping distances of v, where the rounding of unfolded positions leaves
+  // it hard to tell from v, and the ray reaches it past v. Snapped to v, the path would bend there: longer than the
+  // distance by up to twice their distance where v is the bend, and where the line to the point was then drawn
+  // straight from before v, it cut across the faces at v, shorter than the distance (by 3.6e-10 at a nearness of
+  // 5.8e-10, tests/test_fuzz.cpp).
   bool passes_beside(std::uint32_t from, std::uint32_t v) const {
-    return v != kNone && from >= surface_.vertex_count && source_point_beside(from, v);
+    if (v == kNone || from < surface_.vertex_count) return false;
+    const LocatedPoint& source = source_point(from);
+    const std::array<double, 3> p =
+        face_point_position(surface_, source.face, source.barycentric, PositionFrame::engine);
+    const std::array<double, 3> q = surface_.position(surface_.surface_to_input[v]);
+    return std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) <= kPathPieceTolerance * surface_.length_scale;
   }
 
   // One straight piece: from the point the arrival reaches back towards the arrival's pseudo-source, adding
