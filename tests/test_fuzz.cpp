@@ -1017,10 +1017,10 @@ bool check_beside_seed(std::uint64_t seed) {
   } catch (const exactgeo::Error& error) {
     failures.add(variant + "exactgeo::Error " + error.what());
   }
-  return held(seed, c.family, failures, "SourcePointsBesideAVertexAgreeWithTheVertex");
+  return held(seed, c.family, failures, "SourcePointsBesideAVertexAgreeWithThePointMadeAVertex");
 }
 
-TEST(Fuzz, SourcePointsBesideAVertexAgreeWithTheVertex) {
+TEST(Fuzz, SourcePointsBesideAVertexAgreeWithThePointMadeAVertex) {
   check_seeds("beside-a-vertex", kDefaultBesideCases, check_beside_seed);
 }
 
